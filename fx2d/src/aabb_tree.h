@@ -1,0 +1,84 @@
+// Dynamic AABB tree: the broad phase's spatial index.
+//
+// Leaves hold enlarged ("fat") boxes, so a proxy whose tight box still fits inside its fat box
+// need not move in the tree. Insertion picks the sibling that minimises the surface-area
+// heuristic (the perimeter increase over the whole path, in 2D), and the tree is kept shallow by
+// rotations on the way back up. Nodes live in one array with a free list and are addressed by
+// index; after warm-up no operation allocates. All choices are made in a fixed order, so the same
+// sequence of operations builds the same tree.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "fx2d/Math.h"
+
+namespace fx2d::detail {
+
+class AabbTree {
+ public:
+  static constexpr int null_node = -1;
+
+  // Adds a leaf holding `fat_box` and returns its proxy id (a node index, stable until destroyed).
+  int create_proxy(const FxAABB& fat_box, std::uint32_t user_data);
+  void destroy_proxy(int proxy);
+  // Replaces the proxy's fat box: the leaf is removed and reinserted.
+  void move_proxy(int proxy, const FxAABB& fat_box);
+
+  const FxAABB& fat_box(int proxy) const { return nodes_[proxy].box; }
+  std::uint32_t user_data(int proxy) const { return nodes_[proxy].user_data; }
+
+  // Calls visit(proxy) for every leaf whose fat box overlaps `box`, in a deterministic order;
+  // visit returns false to stop early. Uses a member stack reused between calls.
+  template <class Visit>
+  void query(const FxAABB& box, Visit&& visit) const {
+    if (root_ == null_node) return;
+    stack_.clear();
+    stack_.push_back(root_);
+    while (!stack_.empty()) {
+      const int id = stack_.back();
+      stack_.pop_back();
+      const Node& node = nodes_[id];
+      if (!overlaps(node.box, box)) continue;
+      if (node.is_leaf()) {
+        if (!visit(id)) return;
+      } else {
+        stack_.push_back(node.child1);
+        stack_.push_back(node.child2);
+      }
+    }
+  }
+
+  int height() const;           // 0 for an empty tree or a single leaf
+  int proxy_count() const { return proxy_count_; }
+  // Sum of internal nodes' perimeters divided by the root's: the quality measure SAH minimises.
+  float area_ratio() const;
+  // Checks the structural invariants (parents, heights, boxes enclosing children, free list) and
+  // returns false on the first violation. For tests.
+  bool validate() const;
+
+ private:
+  struct Node {
+    FxAABB box;
+    std::uint32_t user_data = 0;
+    int parent_or_next = null_node;  // parent while in the tree, next free node while free
+    int child1 = null_node;
+    int child2 = null_node;
+    int height = 0;                  // leaf 0, free -1
+    bool is_leaf() const { return child1 == null_node; }
+  };
+
+  int allocate_node();
+  void free_node(int id);
+  void insert_leaf(int leaf);
+  void remove_leaf(int leaf);
+  int balance(int id);
+
+  std::vector<Node> nodes_;
+  int root_ = null_node;
+  int free_list_ = null_node;
+  int proxy_count_ = 0;
+  mutable std::vector<int> stack_;
+};
+
+}  // namespace fx2d::detail

@@ -1,0 +1,45 @@
+// Narrow phase: contact manifolds between pairs of shapes.
+//
+// A manifold holds up to two points with a shared normal pointing from shape A to shape B. Each
+// point carries a feature id naming the pair of features (vertex/edge indices of A and B, and
+// which shape held the reference face) that produced it, so the contact cache can match points
+// across steps and carry their impulses (warm starting). Points are reported speculatively: any
+// point whose separation is below `speculative_distance` is kept, so the solver can stop bodies
+// before they touch rather than after they overlap.
+//
+// Callers pass transforms relative to a nearby origin (typically shape A's body origin) so that
+// every coordinate handled here is small, whatever the bodies' distance from the world origin.
+#pragma once
+
+#include <cstdint>
+
+#include "fx2d/Math.h"
+#include "fx2d/Shape.h"
+
+namespace fx2d::detail {
+
+struct ManifoldPoint {
+  FxVec2f point;          // midway between the two surfaces, in the frame of the transforms given
+  float separation = 0;   // signed distance along the normal, negative when overlapping (metres)
+  std::uint32_t id = 0;   // feature id, stable while the same features touch
+};
+
+struct Manifold {
+  FxVec2f normal;         // unit, from A towards B
+  ManifoldPoint points[2];
+  int point_count = 0;    // 0 when the shapes are farther apart than the speculative distance
+};
+
+void collide_circles(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
+                     float speculative_distance, Manifold& out);
+void collide_polygon_circle(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
+                            float speculative_distance, Manifold& out);
+void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
+                      float speculative_distance, Manifold& out);
+
+// Dispatches on the two shape types. A circle-polygon pair is solved as polygon-circle and its
+// normal flipped, so the result always points from `a` to `b`.
+void collide(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
+             float speculative_distance, Manifold& out);
+
+}  // namespace fx2d::detail

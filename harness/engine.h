@@ -1,0 +1,56 @@
+// The one interface through which the harness knows a physics engine.
+//
+// An adapter builds a SceneSpec into its engine (untimed), steps it (timed by the caller), and
+// reports state in the spec's body order so that the harness can measure every engine with the
+// same geometry. Adapters are listed in engines/registry.cpp; nothing else names an engine.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "scene_spec.h"
+
+namespace fxbench {
+
+struct BodyState {
+  Vec2 position;          // body origin, metres
+  double angle = 0.0;     // radians
+  Vec2 linear_velocity;   // m/s
+  double angular_velocity = 0.0;
+};
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+
+  // Names of this engine's own phase split, in the order read_phases() fills them. Empty for an
+  // engine that reports only its total.
+  virtual std::vector<std::string> phase_names() const = 0;
+  // Creates every body and joint of `scene` with the settings scene.<engine> gives. Called once
+  // per instance, never timed. Throws std::runtime_error on what the engine cannot represent.
+  virtual void build(const SceneSpec& scene) = 0;
+  // Advances one time step of scene.dt.
+  virtual void step() = 0;
+  // The last step's phase split in milliseconds, one entry per phase_names() entry.
+  virtual void read_phases(std::span<double> ms) const = 0;
+  // Touching contact manifolds (body pairs in contact) after the last step.
+  virtual int contact_count() const = 0;
+  // Poses and velocities of all bodies, in SceneSpec::bodies order; `out` is resized to fit.
+  virtual void read_state(std::vector<BodyState>& out) const = 0;
+};
+
+struct EngineInfo {
+  std::string name;       // what --engine selects: "fx2d", "box2d", "ode"
+  std::string version;    // the library's version, e.g. "2.4.1"
+  std::string settings;   // one line describing the solver settings it reads from a scene
+  std::unique_ptr<Engine> (*make)();
+};
+
+// Every engine the harness knows, in a fixed order.
+std::span<const EngineInfo> engine_registry();
+// The entry named `name`, or nullptr.
+const EngineInfo* find_engine(const std::string& name);
+
+}  // namespace fxbench
