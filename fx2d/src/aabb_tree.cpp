@@ -1,0 +1,235 @@
+// Dynamic AABB tree (the broad phase's index): insertion by branch-and-bound search for the
+// sibling of least surface-area-heuristic cost, AVL-style rotations on the way back up.
+//
+// Invariants: every internal node has two children, its box encloses both and its height is one
+// more than the taller child's; a leaf has height 0; a free node has height -1 and is on the free
+// list exactly once. The SAH cost of making node S the sibling of a new leaf L is the perimeter of
+// the new parent, union(S, L), plus the perimeter every ancestor of S grows by; ancestors' growth
+// is the "inherited" cost, and perimeter(L) plus the inherited cost bounds every sibling below a
+// node, which prunes the search (Bittner, Hapala, Havran, "Fast Insertion-Based Optimization of
+// Bounding Volume Hierarchies", 2013). The search visits children in a fixed order and keeps the
+// first of equal costs, so the same operations build the same tree.
+#include "aabb_tree.h"
+
+#include <algorithm>
+#include <cassert>
+
+namespace fx2d::detail {
+
+int AabbTree::allocate_node() {
+  if (free_list_ == null_node) {
+    nodes_.push_back(Node{});
+    return int(nodes_.size()) - 1;
+  }
+  const int id = free_list_;
+  free_list_ = nodes_[id].parent_or_next;
+  nodes_[id] = Node{};
+  return id;
+}
+
+void AabbTree::free_node(int id) {
+  nodes_[id].parent_or_next = free_list_;
+  nodes_[id].height = -1;
+  free_list_ = id;
+}
+
+int AabbTree::create_proxy(const FxAABB& fat_box, std::uint32_t user_data) {
+  const int leaf = allocate_node();
+  nodes_[leaf].box = fat_box;
+  nodes_[leaf].user_data = user_data;
+  insert_leaf(leaf);
+  ++proxy_count_;
+  return leaf;
+}
+
+void AabbTree::destroy_proxy(int proxy) {
+  assert(nodes_[proxy].is_leaf() && nodes_[proxy].height == 0);
+  remove_leaf(proxy);
+  free_node(proxy);
+  --proxy_count_;
+}
+
+void AabbTree::move_proxy(int proxy, const FxAABB& fat_box) {
+  assert(nodes_[proxy].is_leaf() && nodes_[proxy].height == 0);
+  remove_leaf(proxy);
+  nodes_[proxy].box = fat_box;
+  insert_leaf(proxy);
+}
+
+int AabbTree::find_best_sibling(const FxAABB& box) const {
+  const float leaf_perimeter = box.perimeter();
+  int best = root_;
+  float best_cost = union_of(nodes_[root_].box, box).perimeter();
+  search_stack_.clear();
+  search_stack_.push_back({root_, 0.0f});
+  while (!search_stack_.empty()) {
+    const Candidate candidate = search_stack_.back();
+    search_stack_.pop_back();
+    const Node& node = nodes_[candidate.node];
+    const float parent_perimeter = union_of(node.box, box).perimeter();
+    const float cost = parent_perimeter + candidate.inherited_cost;
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = candidate.node;
+    }
+    if (node.is_leaf()) continue;
+    // Below this node, every ancestor up to and including it grows at least as it does here.
+    const float child_inherited = candidate.inherited_cost + parent_perimeter - node.box.perimeter();
+    if (leaf_perimeter + child_inherited < best_cost) {
+      search_stack_.push_back({node.child2, child_inherited});
+      search_stack_.push_back({node.child1, child_inherited});
+    }
+  }
+  return best;
+}
+
+void AabbTree::insert_leaf(int leaf) {
+  if (root_ == null_node) {
+    root_ = leaf;
+    nodes_[leaf].parent_or_next = null_node;
+    return;
+  }
+  const FxAABB box = nodes_[leaf].box;
+  const int sibling = find_best_sibling(box);
+  const int old_parent = nodes_[sibling].parent_or_next;
+  const int new_parent = allocate_node();
+  Node& parent = nodes_[new_parent];
+  parent.parent_or_next = old_parent;
+  parent.box = union_of(box, nodes_[sibling].box);
+  parent.child1 = sibling;
+  parent.child2 = leaf;
+  parent.height = nodes_[sibling].height + 1;
+  nodes_[sibling].parent_or_next = new_parent;
+  nodes_[leaf].parent_or_next = new_parent;
+  if (old_parent == null_node) {
+    root_ = new_parent;
+  } else if (nodes_[old_parent].child1 == sibling) {
+    nodes_[old_parent].child1 = new_parent;
+  } else {
+    nodes_[old_parent].child2 = new_parent;
+  }
+  refit_upwards(old_parent);
+}
+
+void AabbTree::remove_leaf(int leaf) {
+  if (leaf == root_) {
+    root_ = null_node;
+    return;
+  }
+  const int parent = nodes_[leaf].parent_or_next;
+  const int grandparent = nodes_[parent].parent_or_next;
+  const int sibling = nodes_[parent].child1 == leaf ? nodes_[parent].child2 : nodes_[parent].child1;
+  free_node(parent);
+  nodes_[sibling].parent_or_next = grandparent;
+  if (grandparent == null_node) {
+    root_ = sibling;
+    return;
+  }
+  if (nodes_[grandparent].child1 == parent) {
+    nodes_[grandparent].child1 = sibling;
+  } else {
+    nodes_[grandparent].child2 = sibling;
+  }
+  refit_upwards(grandparent);
+}
+
+// Restores balance, height and box of `id` and of each of its ancestors.
+void AabbTree::refit_upwards(int id) {
+  while (id != null_node) {
+    id = balance(id);
+    Node& node = nodes_[id];
+    node.height = 1 + std::max(nodes_[node.child1].height, nodes_[node.child2].height);
+    node.box = union_of(nodes_[node.child1].box, nodes_[node.child2].box);
+    id = node.parent_or_next;
+  }
+}
+
+// If one child of `id` is more than one level taller than the other, lifts that child into
+// id's place and returns it; otherwise returns id. Children's heights and boxes must be current.
+int AabbTree::balance(int id) {
+  const Node& node = nodes_[id];
+  if (node.is_leaf()) return id;
+  const int difference = nodes_[node.child2].height - nodes_[node.child1].height;
+  if (difference > 1) return rotate_up(id, node.child2);
+  if (difference < -1) return rotate_up(id, node.child1);
+  return id;
+}
+
+// Rotation: `tall` (a child of `top`) takes top's place. Of tall's two children, the taller stays
+// with tall and the shorter goes to top in tall's old slot, which shortens the subtree by one.
+int AabbTree::rotate_up(int top, int tall) {
+  Node& upper = nodes_[top];
+  Node& lifted = nodes_[tall];
+  const bool kept_first = nodes_[lifted.child1].height >= nodes_[lifted.child2].height;
+  const int kept = kept_first ? lifted.child1 : lifted.child2;
+  const int moved = kept_first ? lifted.child2 : lifted.child1;
+
+  lifted.parent_or_next = upper.parent_or_next;
+  upper.parent_or_next = tall;
+  if (lifted.parent_or_next == null_node) {
+    root_ = tall;
+  } else if (nodes_[lifted.parent_or_next].child1 == top) {
+    nodes_[lifted.parent_or_next].child1 = tall;
+  } else {
+    nodes_[lifted.parent_or_next].child2 = tall;
+  }
+
+  if (upper.child1 == tall) {
+    upper.child1 = moved;
+  } else {
+    upper.child2 = moved;
+  }
+  nodes_[moved].parent_or_next = top;
+  upper.box = union_of(nodes_[upper.child1].box, nodes_[upper.child2].box);
+  upper.height = 1 + std::max(nodes_[upper.child1].height, nodes_[upper.child2].height);
+
+  lifted.child1 = top;
+  lifted.child2 = kept;
+  return tall;
+}
+
+int AabbTree::height() const { return root_ == null_node ? 0 : nodes_[root_].height; }
+
+float AabbTree::area_ratio() const {
+  if (root_ == null_node || nodes_[root_].is_leaf()) return 0.0f;
+  float internal_perimeters = 0.0f;
+  for (const Node& node : nodes_) {
+    if (node.height > 0) internal_perimeters += node.box.perimeter();
+  }
+  return internal_perimeters / nodes_[root_].box.perimeter();
+}
+
+bool AabbTree::validate() const {
+  const int node_count = int(nodes_.size());
+  int free_count = 0;
+  for (int id = free_list_; id != null_node; id = nodes_[id].parent_or_next) {
+    if (id < 0 || id >= node_count || nodes_[id].height != -1 || ++free_count > node_count) return false;
+  }
+
+  int reachable = 0;
+  int leaves = 0;
+  if (root_ != null_node) {
+    if (nodes_[root_].parent_or_next != null_node) return false;
+    std::vector<int> pending{root_};
+    while (!pending.empty()) {
+      const int id = pending.back();
+      pending.pop_back();
+      if (id < 0 || id >= node_count || ++reachable > node_count) return false;
+      const Node& node = nodes_[id];
+      if (node.is_leaf()) {
+        if (node.child2 != null_node || node.height != 0) return false;
+        ++leaves;
+        continue;
+      }
+      for (const int child : {node.child1, node.child2}) {
+        if (child < 0 || child >= node_count || nodes_[child].parent_or_next != id) return false;
+        if (!node.box.contains(nodes_[child].box)) return false;
+        pending.push_back(child);
+      }
+      if (node.height != 1 + std::max(nodes_[node.child1].height, nodes_[node.child2].height)) return false;
+    }
+  }
+  return leaves == proxy_count_ && reachable + free_count == node_count;
+}
+
+}  // namespace fx2d::detail

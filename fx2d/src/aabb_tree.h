@@ -68,17 +68,27 @@ class AabbTree {
     bool is_leaf() const { return child1 == null_node; }
   };
 
+  // A node still to visit in the sibling search, with the perimeter growth of its ancestors.
+  struct Candidate {
+    int node = null_node;
+    float inherited_cost = 0.0f;
+  };
+
   int allocate_node();
   void free_node(int id);
+  int find_best_sibling(const FxAABB& box) const;
   void insert_leaf(int leaf);
   void remove_leaf(int leaf);
+  void refit_upwards(int id);
   int balance(int id);
+  int rotate_up(int top, int tall);
 
   std::vector<Node> nodes_;
   int root_ = null_node;
   int free_list_ = null_node;
   int proxy_count_ = 0;
   mutable std::vector<int> stack_;
+  mutable std::vector<Candidate> search_stack_;
 };
 
 }  // namespace fx2d::detail

@@ -1,0 +1,74 @@
+// Broad phase: keep each body's proxy in the tree and find the pairs whose fat boxes begin to
+// overlap. Runs once per step. A proxy's fat box is its tight box enlarged by a margin and swept
+// by one step of its motion, so a body that moves a little, or moves steadily, stays inside it and
+// is not reinserted; only bodies whose tight box left their fat box are searched for new pairs.
+#include <algorithm>
+#include <cmath>
+
+#include "world.h"
+
+namespace fx2d::detail {
+namespace {
+
+constexpr float proxy_margin = 0.1f;  // metres
+
+}  // namespace
+
+FxAABB fat_box_for(const FxAABB& tight, FxVec2f displacement) {
+  FxAABB fat = inflate(tight, proxy_margin);
+  if (displacement.x < 0.0f) fat.lower.x += displacement.x; else fat.upper.x += displacement.x;
+  if (displacement.y < 0.0f) fat.lower.y += displacement.y; else fat.upper.y += displacement.y;
+  return fat;
+}
+
+std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
+  return a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
+}
+
+void World::rebuild_jointed_pairs() {
+  jointed_pairs.clear();
+  for (const auto& constraint : constraints) {
+    jointed_pairs.push_back(pair_key(constraint->entity_a()->packed_index(), constraint->entity_b()->packed_index()));
+  }
+  std::sort(jointed_pairs.begin(), jointed_pairs.end());
+  jointed_pairs_dirty = false;
+}
+
+bool World::jointed(std::uint32_t a, std::uint32_t b) const {
+  return std::binary_search(jointed_pairs.begin(), jointed_pairs.end(), pair_key(a, b));
+}
+
+void World::update_broad_phase() {
+  if (jointed_pairs_dirty) rebuild_jointed_pairs();
+  moved_bodies.clear();
+  for (std::uint32_t i = 0; i < records.size(); ++i) {
+    BodyRecord& record = records[i];
+    if (!record.moved) continue;
+    tree.move_proxy(record.proxy, fat_box_for(sims[i].aabb, settings.dt * sims[i].linear_velocity));
+    moved_bodies.push_back(i);
+  }
+
+  // A pair of moved bodies is found from both sides; only the lower index creates it.
+  for (const std::uint32_t i : moved_bodies) {
+    tree.query(tree.fat_box(records[i].proxy), [&](int proxy) {
+      const std::uint32_t j = body_of_proxy[proxy];
+      if (j == i) return true;
+      if (records[j].moved && j < i) return true;
+      if (records[i].type != FxBodyType::dynamic && records[j].type != FxBodyType::dynamic) return true;
+      const std::uint32_t a = i < j ? i : j;
+      const std::uint32_t b = i < j ? j : i;
+      if (contacts.has_pair(records[a].contact_head, b) || jointed(a, b)) return true;
+      const int id = contacts.create(a, b, records[a].contact_head, records[b].contact_head);
+      CachedContact& contact = contacts.slots[id];
+      const FxMaterial& ma = records[a].material;
+      const FxMaterial& mb = records[b].material;
+      contact.static_friction = std::sqrt(ma.static_friction * mb.static_friction);
+      contact.dynamic_friction = std::sqrt(ma.dynamic_friction * mb.dynamic_friction);
+      contact.restitution = ma.restitution > mb.restitution ? ma.restitution : mb.restitution;
+      return true;
+    });
+  }
+  for (const std::uint32_t i : moved_bodies) records[i].moved = false;
+}
+
+}  // namespace fx2d::detail

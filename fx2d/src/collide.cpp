@@ -1,0 +1,230 @@
+// Narrow phase: contact manifolds for circle-circle, polygon-circle and polygon-polygon pairs.
+//
+// Polygon pairs use the separating-axis test with reference-face clipping (Catto, "Contact
+// Manifolds", GDC 2007): the face of greatest separation is the
+// reference, the most anti-parallel face of the other polygon is the incident edge, and the
+// incident edge clipped to the reference face's side planes gives at most two points.
+// Invariants: the normal points from A to B; points lie midway between the surfaces; every choice
+// breaks ties by the lowest index, so the same input gives the same manifold bit for bit; the two
+// points of a manifold carry distinct feature ids, and the same touching features give the same
+// ids from one step to the next. Nothing here allocates.
+#include "collide.h"
+
+#include <array>
+#include <limits>
+
+namespace fx2d::detail {
+namespace {
+
+constexpr float linear_slop = 0.005f;  // metres: the overlap the solver tolerates at rest
+// B becomes the reference only when its face separates clearly more than A's, so that two faces
+// with nearly equal separation (a box at rest on a box) do not swap roles from step to step and
+// change every feature id.
+constexpr float reference_face_hysteresis = 0.1f * linear_slop;
+
+// Feature id of a polygon-polygon point: which polygon holds the reference face, the reference
+// edge, and the incident vertex whose clipped or unclipped image the point is. A point clipped
+// off at a side plane keeps its vertex's id: it moves continuously into that vertex as the
+// vertex slides back inside, so carrying its impulse across is right.
+constexpr std::uint32_t polygon_feature_id(bool reference_is_b, int reference_edge, int incident_vertex) {
+  return (reference_is_b ? 1u << 16 : 0u) | std::uint32_t(reference_edge) << 8 |
+         std::uint32_t(incident_vertex);
+}
+
+// A circle contact has a single point that moves continuously over the polygon's boundary, so one
+// id serves every feature and the impulse carries over as the circle rolls past a vertex.
+constexpr std::uint32_t circle_feature_id = 0;
+
+// A polygon's vertices and normals in some frame, on the stack.
+struct PolygonView {
+  std::array<FxVec2f, FxShape::max_vertices> vertices;
+  std::array<FxVec2f, FxShape::max_vertices> normals;
+  int count = 0;
+};
+
+PolygonView place(const FxShape& polygon, const FxTransform& xf) {
+  PolygonView view{};
+  view.count = polygon.vertex_count();
+  for (int i = 0; i < view.count; ++i) {
+    view.vertices[i] = transform_point(xf, polygon.vertices()[i]);
+    view.normals[i] = rotate(xf.q, polygon.normals()[i]);
+  }
+  return view;
+}
+
+struct FaceSeparation {
+  int edge = 0;
+  float separation = 0.0f;
+};
+
+// The edge of `reference` whose normal separates `other` the most, and by how much.
+FaceSeparation max_face_separation(const PolygonView& reference, const PolygonView& other) {
+  FaceSeparation best{0, -std::numeric_limits<float>::max()};
+  for (int i = 0; i < reference.count; ++i) {
+    float deepest = std::numeric_limits<float>::max();
+    for (int j = 0; j < other.count; ++j) {
+      const float s = dot(reference.normals[i], other.vertices[j] - reference.vertices[i]);
+      if (s < deepest) deepest = s;
+    }
+    if (deepest > best.separation) best = {i, deepest};
+  }
+  return best;
+}
+
+// The edge of `polygon` whose normal is most anti-parallel to `normal`.
+int incident_edge(const PolygonView& polygon, FxVec2f normal) {
+  int best = 0;
+  float lowest = dot(normal, polygon.normals[0]);
+  for (int i = 1; i < polygon.count; ++i) {
+    const float d = dot(normal, polygon.normals[i]);
+    if (d < lowest) {
+      lowest = d;
+      best = i;
+    }
+  }
+  return best;
+}
+
+struct ClipVertex {
+  FxVec2f point;
+  int vertex = 0;
+};
+
+// Keeps the part of segment [a, b] where dot(direction, p - origin) >= 0. Returns false when
+// nothing is left. A clipped end keeps the vertex index of the end it replaces.
+bool clip_to_side_plane(ClipVertex& a, ClipVertex& b, FxVec2f direction, FxVec2f origin) {
+  const float da = dot(direction, a.point - origin);
+  const float db = dot(direction, b.point - origin);
+  if (da < 0.0f && db < 0.0f) return false;
+  if (da < 0.0f) a.point = lerp(a.point, b.point, da / (da - db));
+  if (db < 0.0f) b.point = lerp(b.point, a.point, db / (db - da));
+  return true;
+}
+
+void add_point(Manifold& out, FxVec2f point, float separation, std::uint32_t id) {
+  ManifoldPoint& p = out.points[out.point_count++];
+  p.point = point;
+  p.separation = separation;
+  p.id = id;
+}
+
+}  // namespace
+
+void collide_circles(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
+                     float speculative_distance, Manifold& out) {
+  out = Manifold{};
+  const FxVec2f center_a = transform_point(xf_a, a.centroid());
+  const FxVec2f center_b = transform_point(xf_b, b.centroid());
+  const float center_distance = distance(center_a, center_b);
+  const float separation = center_distance - a.radius() - b.radius();
+  if (!(separation < speculative_distance)) return;
+  // Concentric circles have no preferred direction; a fixed one keeps the result deterministic.
+  out.normal =
+      center_distance > 0.0f ? (1.0f / center_distance) * (center_b - center_a) : FxVec2f{0.0f, 1.0f};
+  const FxVec2f surface_a = center_a + a.radius() * out.normal;
+  const FxVec2f surface_b = center_b - b.radius() * out.normal;
+  add_point(out, lerp(surface_a, surface_b, 0.5f), separation, circle_feature_id);
+}
+
+void collide_polygon_circle(const FxShape& a, const FxTransform& xf_a, const FxShape& b,
+                            const FxTransform& xf_b, float speculative_distance, Manifold& out) {
+  out = Manifold{};
+  // Work in A's frame, where A's vertices and normals need no transforming.
+  const FxVec2f center = inv_transform_point(xf_a, transform_point(xf_b, b.centroid()));
+  const float radius = b.radius();
+  const auto vertices = a.vertices();
+  const auto normals = a.normals();
+  const int count = a.vertex_count();
+
+  // For a centre outside the polygon the face of greatest separation holds the closest point; for
+  // a centre inside it is the face of least penetration.
+  int face = 0;
+  float face_separation = -std::numeric_limits<float>::max();
+  for (int i = 0; i < count; ++i) {
+    const float s = dot(normals[i], center - vertices[i]);
+    if (s > face_separation) {
+      face_separation = s;
+      face = i;
+    }
+  }
+  if (!(face_separation - radius < speculative_distance)) return;
+
+  const FxVec2f v1 = vertices[face];
+  const FxVec2f v2 = vertices[(face + 1) % count];
+  FxVec2f normal = normals[face];
+  FxVec2f surface_a = center - face_separation * normal;
+  float center_distance = face_separation;
+  if (face_separation > 0.0f) {
+    // Outside: the closest point is a vertex when the centre lies beyond either end of the face.
+    const bool beyond_v1 = dot(center - v1, v2 - v1) < 0.0f;
+    const bool beyond_v2 = dot(center - v2, v1 - v2) < 0.0f;
+    if (beyond_v1 || beyond_v2) {
+      surface_a = beyond_v1 ? v1 : v2;
+      center_distance = distance(surface_a, center);
+      normal = (1.0f / center_distance) * (center - surface_a);
+    }
+  }
+  const float separation = center_distance - radius;
+  if (!(separation < speculative_distance)) return;
+  out.normal = rotate(xf_a.q, normal);
+  const FxVec2f surface_b = center - radius * normal;
+  add_point(out, transform_point(xf_a, lerp(surface_a, surface_b, 0.5f)), separation, circle_feature_id);
+}
+
+void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
+                      float speculative_distance, Manifold& out) {
+  out = Manifold{};
+  // Work in A's frame: A as given, B placed relative to it.
+  const PolygonView poly_a = place(a, FxTransform{});
+  const PolygonView poly_b = place(b, inv_mul(xf_a, xf_b));
+
+  const FaceSeparation face_a = max_face_separation(poly_a, poly_b);
+  if (!(face_a.separation < speculative_distance)) return;
+  const FaceSeparation face_b = max_face_separation(poly_b, poly_a);
+  if (!(face_b.separation < speculative_distance)) return;
+
+  const bool reference_is_b = face_b.separation > face_a.separation + reference_face_hysteresis;
+  const PolygonView& reference = reference_is_b ? poly_b : poly_a;
+  const PolygonView& incident = reference_is_b ? poly_a : poly_b;
+  const int reference_edge = reference_is_b ? face_b.edge : face_a.edge;
+
+  const FxVec2f ref_start = reference.vertices[reference_edge];
+  const FxVec2f ref_end = reference.vertices[(reference_edge + 1) % reference.count];
+  const FxVec2f normal = reference.normals[reference_edge];
+  // Counter-clockwise winding makes the edge direction the normal turned left.
+  const FxVec2f tangent = left_perp(normal);
+
+  const int edge = incident_edge(incident, normal);
+  const int next = (edge + 1) % incident.count;
+  ClipVertex clip[2] = {{incident.vertices[edge], edge}, {incident.vertices[next], next}};
+  if (!clip_to_side_plane(clip[0], clip[1], tangent, ref_start)) return;
+  if (!clip_to_side_plane(clip[0], clip[1], -tangent, ref_end)) return;
+
+  out.normal = rotate(xf_a.q, reference_is_b ? -normal : normal);
+  for (const ClipVertex& v : clip) {
+    const float separation = dot(normal, v.point - ref_start);
+    if (!(separation < speculative_distance)) continue;
+    const FxVec2f midway = v.point - (0.5f * separation) * normal;
+    add_point(out, transform_point(xf_a, midway), separation,
+              polygon_feature_id(reference_is_b, reference_edge, v.vertex));
+  }
+}
+
+void collide(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
+             float speculative_distance, Manifold& out) {
+  const bool a_is_circle = a.type() == FxShapeType::circle;
+  const bool b_is_circle = b.type() == FxShapeType::circle;
+  if (a_is_circle && b_is_circle) {
+    collide_circles(a, xf_a, b, xf_b, speculative_distance, out);
+  } else if (b_is_circle) {
+    collide_polygon_circle(a, xf_a, b, xf_b, speculative_distance, out);
+  } else if (a_is_circle) {
+    // Points lie midway and separations are symmetric, so only the normal changes sides.
+    collide_polygon_circle(b, xf_b, a, xf_a, speculative_distance, out);
+    out.normal = -out.normal;
+  } else {
+    collide_polygons(a, xf_a, b, xf_b, speculative_distance, out);
+  }
+}
+
+}  // namespace fx2d::detail

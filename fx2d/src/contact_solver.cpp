@@ -1,0 +1,201 @@
+#include "contact_solver.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "world.h"
+
+namespace fx2d::detail {
+namespace {
+
+// Below this tangential speed (m/s) a contact counts as sticking and static friction applies.
+constexpr float sticking_speed = 0.01f;
+// The position projection corrects this fraction of the excess overlap per pass, and at most
+// max_projection metres, so that a deep overlap is resolved over several steps, not in one jump.
+constexpr float projection_fraction = 0.2f;
+constexpr float max_projection = 0.2f;
+
+FxVec2f point_velocity(const FxBodyState& state, FxVec2f anchor) {
+  return state.linear_velocity + cross(state.angular_velocity, anchor);
+}
+
+float effective_mass(const ContactConstraint& c, FxVec2f anchor_a, FxVec2f anchor_b, FxVec2f direction) {
+  const float ra = cross(anchor_a, direction);
+  const float rb = cross(anchor_b, direction);
+  const float k = c.inv_mass_a + c.inv_mass_b + c.inv_inertia_a * ra * ra + c.inv_inertia_b * rb * rb;
+  return k > 0.0f ? 1.0f / k : 0.0f;
+}
+
+void apply_impulse(FxBodyState& a, FxBodyState& b, const ContactConstraint& c, const ContactPointConstraint& p,
+                   FxVec2f impulse) {
+  a.linear_velocity -= c.inv_mass_a * impulse;
+  a.angular_velocity -= c.inv_inertia_a * cross(p.anchor_a, impulse);
+  b.linear_velocity += c.inv_mass_b * impulse;
+  b.angular_velocity += c.inv_inertia_b * cross(p.anchor_b, impulse);
+}
+
+// Separation now, from the displacement and rotation of both bodies since the step began.
+float current_separation(const FxBodyState& a, const FxBodyState& b, FxVec2f normal, const ContactPointConstraint& p) {
+  const FxVec2f moved_a = rotate(a.delta_rotation, p.anchor_a);
+  const FxVec2f moved_b = rotate(b.delta_rotation, p.anchor_b);
+  const FxVec2f gap = (b.delta_position - a.delta_position) + (moved_b - moved_a);
+  return dot(gap, normal) + p.adjusted_separation;
+}
+
+}  // namespace
+
+void ContactSolver::prepare(const World& world) {
+  constraints.clear();
+  for (int id = 0; id < static_cast<int>(world.contacts.slots.size()); ++id) {
+    const CachedContact& contact = world.contacts.slots[id];
+    if (!contact.touching) continue;
+    const BodyRecord& record_a = world.records[contact.body_a];
+    const BodyRecord& record_b = world.records[contact.body_b];
+    if (!record_a.awake && !record_b.awake) continue;
+    const BodySim& sim_a = world.sims[contact.body_a];
+    const BodySim& sim_b = world.sims[contact.body_b];
+
+    ContactConstraint& c = constraints.emplace_back();
+    c.body_a = contact.body_a;
+    c.body_b = contact.body_b;
+    c.cache_id = id;
+    c.point_count = contact.manifold.point_count;
+    c.normal = contact.manifold.normal;
+    c.inv_mass_a = sim_a.inv_mass;
+    c.inv_inertia_a = sim_a.inv_inertia;
+    c.inv_mass_b = sim_b.inv_mass;
+    c.inv_inertia_b = sim_b.inv_inertia;
+    c.restitution = contact.restitution;
+
+    // The manifold is in a frame centred on body a's origin; move it to the centres of mass.
+    const FxVec2f center_a = rotate(sim_a.rotation, sim_a.local_center);
+    const FxVec2f center_b = world.center_offset(contact.body_a, contact.body_b) + center_a;
+    const FxVec2f tangent = right_perp(c.normal);
+    float sliding_speed = 0.0f;
+    for (int i = 0; i < c.point_count; ++i) {
+      const ManifoldPoint& mp = contact.manifold.points[i];
+      ContactPointConstraint& p = c.points[i];
+      p.anchor_a = mp.point - center_a;
+      p.anchor_b = mp.point - center_b;
+      p.adjusted_separation = mp.separation - dot(p.anchor_b - p.anchor_a, c.normal);
+      p.normal_mass = effective_mass(c, p.anchor_a, p.anchor_b, c.normal);
+      p.tangent_mass = effective_mass(c, p.anchor_a, p.anchor_b, tangent);
+      p.normal_impulse = contact.normal_impulse[i];
+      p.tangent_impulse = contact.tangent_impulse[i];
+      p.max_normal_impulse = 0.0f;
+      const FxVec2f dv = (sim_b.linear_velocity + cross(sim_b.angular_velocity, p.anchor_b)) -
+                         (sim_a.linear_velocity + cross(sim_a.angular_velocity, p.anchor_a));
+      p.relative_velocity = dot(dv, c.normal);
+      sliding_speed = std::max(sliding_speed, std::fabs(dot(dv, tangent)));
+    }
+    c.friction = sliding_speed > sticking_speed ? contact.dynamic_friction : contact.static_friction;
+  }
+}
+
+void ContactSolver::warm_start(std::span<FxBodyState> states) const {
+  for (const ContactConstraint& c : constraints) {
+    FxBodyState& a = states[c.body_a];
+    FxBodyState& b = states[c.body_b];
+    const FxVec2f tangent = right_perp(c.normal);
+    for (int i = 0; i < c.point_count; ++i) {
+      const ContactPointConstraint& p = c.points[i];
+      apply_impulse(a, b, c, p, p.normal_impulse * c.normal + p.tangent_impulse * tangent);
+    }
+  }
+}
+
+// Invariant: no two bodies of one constraint alias (body_a != body_b), and static bodies have
+// zero inverse mass, so writing their state back leaves it unchanged.
+void ContactSolver::solve(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias) {
+  for (ContactConstraint& c : constraints) {
+    FxBodyState& a = states[c.body_a];
+    FxBodyState& b = states[c.body_b];
+    const FxVec2f tangent = right_perp(c.normal);
+
+    // Normal rows: speculative points (separated) stop the approach exactly at contact; overlaps
+    // are pushed apart softly and no faster than max_push_speed.
+    for (int i = 0; i < c.point_count; ++i) {
+      ContactPointConstraint& p = c.points[i];
+      const float separation = current_separation(a, b, c.normal, p);
+      float bias = 0.0f;
+      float mass_scale = 1.0f;
+      float impulse_scale = 0.0f;
+      if (separation > 0.0f) {
+        bias = separation * params.inv_substep_dt;
+      } else if (use_bias) {
+        bias = std::max(params.softness.bias_rate * separation, -params.max_push_speed);
+        mass_scale = params.softness.mass_scale;
+        impulse_scale = params.softness.impulse_scale;
+      }
+      const float vn = dot(point_velocity(b, p.anchor_b) - point_velocity(a, p.anchor_a), c.normal);
+      const float delta = -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
+      const float accumulated = std::max(p.normal_impulse + delta, 0.0f);
+      const float applied = accumulated - p.normal_impulse;
+      p.normal_impulse = accumulated;
+      p.max_normal_impulse = std::max(p.max_normal_impulse, applied);
+      apply_impulse(a, b, c, p, applied * c.normal);
+    }
+
+    // Friction rows, bounded by the cone of each point's current normal impulse.
+    for (int i = 0; i < c.point_count; ++i) {
+      ContactPointConstraint& p = c.points[i];
+      const float vt = dot(point_velocity(b, p.anchor_b) - point_velocity(a, p.anchor_a), tangent);
+      const float limit = c.friction * p.normal_impulse;
+      const float accumulated = std::clamp(p.tangent_impulse - p.tangent_mass * vt, -limit, limit);
+      const float applied = accumulated - p.tangent_impulse;
+      p.tangent_impulse = accumulated;
+      apply_impulse(a, b, c, p, applied * tangent);
+    }
+  }
+}
+
+void ContactSolver::apply_restitution(std::span<FxBodyState> states, float threshold) {
+  for (ContactConstraint& c : constraints) {
+    if (c.restitution == 0.0f) continue;
+    FxBodyState& a = states[c.body_a];
+    FxBodyState& b = states[c.body_b];
+    for (int i = 0; i < c.point_count; ++i) {
+      ContactPointConstraint& p = c.points[i];
+      if (p.relative_velocity > -threshold || p.max_normal_impulse == 0.0f) continue;
+      const float vn = dot(point_velocity(b, p.anchor_b) - point_velocity(a, p.anchor_a), c.normal);
+      const float delta = -p.normal_mass * (vn + c.restitution * p.relative_velocity);
+      const float accumulated = std::max(p.normal_impulse + delta, 0.0f);
+      const float applied = accumulated - p.normal_impulse;
+      p.normal_impulse = accumulated;
+      apply_impulse(a, b, c, p, applied * c.normal);
+    }
+  }
+}
+
+void ContactSolver::project_positions(std::span<FxBodyState> states, float linear_slop) const {
+  for (const ContactConstraint& c : constraints) {
+    FxBodyState& a = states[c.body_a];
+    FxBodyState& b = states[c.body_b];
+    for (int i = 0; i < c.point_count; ++i) {
+      const ContactPointConstraint& p = c.points[i];
+      const float separation = current_separation(a, b, c.normal, p);
+      const float correction = std::clamp(projection_fraction * (separation + linear_slop), -max_projection, 0.0f);
+      if (correction == 0.0f) continue;
+      const FxVec2f moved_a = rotate(a.delta_rotation, p.anchor_a);
+      const FxVec2f moved_b = rotate(b.delta_rotation, p.anchor_b);
+      const float mass = effective_mass(c, moved_a, moved_b, c.normal);
+      const FxVec2f impulse = (-correction * mass) * c.normal;
+      a.delta_position -= c.inv_mass_a * impulse;
+      a.delta_rotation = integrate_rotation(a.delta_rotation, -c.inv_inertia_a * cross(moved_a, impulse));
+      b.delta_position += c.inv_mass_b * impulse;
+      b.delta_rotation = integrate_rotation(b.delta_rotation, c.inv_inertia_b * cross(moved_b, impulse));
+    }
+  }
+}
+
+void ContactSolver::store_impulses(ContactCache& cache) const {
+  for (const ContactConstraint& c : constraints) {
+    CachedContact& contact = cache.slots[c.cache_id];
+    for (int i = 0; i < c.point_count; ++i) {
+      contact.normal_impulse[i] = c.points[i].normal_impulse;
+      contact.tangent_impulse[i] = c.points[i].tangent_impulse;
+    }
+  }
+}
+
+}  // namespace fx2d::detail

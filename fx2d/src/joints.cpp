@@ -1,0 +1,174 @@
+// The constraint base and the two joints Fx2D provides, solved as soft constraints in the same
+// passes as contacts. Each joint keeps its anchors relative to the centres of mass at the step's
+// start and recovers its current error from the bodies' displacement since then, like contacts.
+#include <Eigen/Dense>
+#include <cmath>
+#include <string>
+
+#include "fx2d/Constraint.h"
+
+namespace fx2d {
+namespace {
+
+struct JointBodies {
+  FxBodyState& a;
+  FxBodyState& b;
+  float inv_mass_a, inv_inertia_a, inv_mass_b, inv_inertia_b;
+};
+
+JointBodies bodies_of(FxConstraintContext& context, const FxConstraint& joint) {
+  const FxEntity& a = *joint.entity_a();
+  const FxEntity& b = *joint.entity_b();
+  return {context.state(a), context.state(b), context.inv_mass(a), context.inv_inertia(a), context.inv_mass(b),
+          context.inv_inertia(b)};
+}
+
+void apply(JointBodies& bodies, FxVec2f anchor_a, FxVec2f anchor_b, FxVec2f impulse) {
+  bodies.a.linear_velocity -= bodies.inv_mass_a * impulse;
+  bodies.a.angular_velocity -= bodies.inv_inertia_a * cross(anchor_a, impulse);
+  bodies.b.linear_velocity += bodies.inv_mass_b * impulse;
+  bodies.b.angular_velocity += bodies.inv_inertia_b * cross(anchor_b, impulse);
+}
+
+FxVec2f relative_velocity(const JointBodies& bodies, FxVec2f anchor_a, FxVec2f anchor_b) {
+  return (bodies.b.linear_velocity + cross(bodies.b.angular_velocity, anchor_b)) -
+         (bodies.a.linear_velocity + cross(bodies.a.angular_velocity, anchor_a));
+}
+
+// Anchor b minus anchor a now, from where they were at the step's start and how far each body
+// moved and turned since.
+FxVec2f current_separation(const JointBodies& bodies, FxVec2f separation0, FxVec2f anchor_a0, FxVec2f anchor_b0,
+                           FxVec2f anchor_a, FxVec2f anchor_b) {
+  return separation0 + (bodies.b.delta_position - bodies.a.delta_position) + (anchor_b - anchor_b0) -
+         (anchor_a - anchor_a0);
+}
+
+// Anchor offset from the centre of mass, world-aligned, at the step's start.
+FxVec2f start_anchor(FxConstraintContext& context, const FxEntity& entity, FxVec2f local_anchor) {
+  return rotate(context.start_rotation(entity), local_anchor - context.local_center(entity));
+}
+
+FxVec2f world_point(const FxEntity& entity, FxVec2f local_point) {
+  return entity.position() + rotate(entity.rotation(), local_point);
+}
+
+}  // namespace
+
+FxSoftness make_softness(float hertz, float damping_ratio, float substep_dt) {
+  const float omega = 2.0f * 3.14159265358979f * hertz;
+  const float a1 = 2.0f * damping_ratio + substep_dt * omega;
+  const float a2 = substep_dt * omega * a1;
+  const float a3 = 1.0f / (1.0f + a2);
+  return {omega / a1, a2 * a3, a3};
+}
+
+FxConstraint::FxConstraint(std::shared_ptr<FxEntity> a, std::shared_ptr<FxEntity> b) : a_(std::move(a)), b_(std::move(b)) {
+  if (!a_ || !b_) throw FxInvalidArgument("FxConstraint: entities: expected two entities, got null");
+  if (a_ == b_) throw FxInvalidArgument("FxConstraint: entities: expected two different entities");
+  if (a_->type() != FxBodyType::dynamic && b_->type() != FxBodyType::dynamic) {
+    throw FxInvalidArgument("FxConstraint: entities: expected at least one dynamic entity");
+  }
+}
+
+FxDistanceJoint::FxDistanceJoint(std::shared_ptr<FxEntity> a, std::shared_ptr<FxEntity> b, FxVec2f local_anchor_a,
+                                 FxVec2f local_anchor_b, float length)
+    : FxConstraint(std::move(a), std::move(b)), local_anchor_a_(local_anchor_a), local_anchor_b_(local_anchor_b), length_(length) {
+  if (!is_finite(local_anchor_a) || !is_finite(local_anchor_b)) {
+    throw FxInvalidArgument("FxDistanceJoint: local anchors: expected finite coordinates");
+  }
+  if (!std::isfinite(length)) throw FxInvalidArgument("FxDistanceJoint: length: expected a finite number");
+  if (length_ < 0.0f) length_ = current_length();
+}
+
+float FxDistanceJoint::current_length() const {
+  return distance(world_point(*entity_a(), local_anchor_a_), world_point(*entity_b(), local_anchor_b_));
+}
+
+void FxDistanceJoint::prepare(FxConstraintContext& context) {
+  anchor_a_ = start_anchor(context, *entity_a(), local_anchor_a_);
+  anchor_b_ = start_anchor(context, *entity_b(), local_anchor_b_);
+  separation0_ = context.center_offset(*entity_a(), *entity_b()) + anchor_b_ - anchor_a_;
+}
+
+void FxDistanceJoint::warm_start(FxConstraintContext& context) {
+  JointBodies bodies = bodies_of(context, *this);
+  const FxVec2f ra = rotate(bodies.a.delta_rotation, anchor_a_);
+  const FxVec2f rb = rotate(bodies.b.delta_rotation, anchor_b_);
+  const FxVec2f axis = normalize(current_separation(bodies, separation0_, anchor_a_, anchor_b_, ra, rb));
+  apply(bodies, ra, rb, impulse_ * axis);
+}
+
+void FxDistanceJoint::evaluate(FxConstraintContext& context, bool use_bias) {
+  JointBodies bodies = bodies_of(context, *this);
+  const FxVec2f ra = rotate(bodies.a.delta_rotation, anchor_a_);
+  const FxVec2f rb = rotate(bodies.b.delta_rotation, anchor_b_);
+  const FxVec2f separation = current_separation(bodies, separation0_, anchor_a_, anchor_b_, ra, rb);
+  const FxVec2f axis = normalize(separation);
+  const float cra = cross(ra, axis);
+  const float crb = cross(rb, axis);
+  const float k = bodies.inv_mass_a + bodies.inv_mass_b + bodies.inv_inertia_a * cra * cra + bodies.inv_inertia_b * crb * crb;
+  if (k <= 0.0f) return;
+  float bias = 0.0f;
+  float mass_scale = 1.0f;
+  float impulse_scale = 0.0f;
+  if (use_bias) {
+    const float error = fx2d::length(separation) - length_;
+    bias = std::fmax(std::fmin(context.softness.bias_rate * error, context.max_bias_velocity), -context.max_bias_velocity);
+    mass_scale = context.softness.mass_scale;
+    impulse_scale = context.softness.impulse_scale;
+  }
+  const float cdot = dot(relative_velocity(bodies, ra, rb), axis);
+  const float impulse = -(mass_scale / k) * (cdot + bias) - impulse_scale * impulse_;
+  impulse_ += impulse;
+  apply(bodies, ra, rb, impulse * axis);
+}
+
+FxRevoluteJoint::FxRevoluteJoint(std::shared_ptr<FxEntity> a, std::shared_ptr<FxEntity> b, FxVec2f world_anchor)
+    : FxConstraint(std::move(a), std::move(b)) {
+  if (!is_finite(world_anchor)) throw FxInvalidArgument("FxRevoluteJoint: world_anchor: expected finite coordinates");
+  local_anchor_a_ = inv_rotate(entity_a()->rotation(), world_anchor - entity_a()->position());
+  local_anchor_b_ = inv_rotate(entity_b()->rotation(), world_anchor - entity_b()->position());
+}
+
+float FxRevoluteJoint::anchor_gap() const {
+  return distance(world_point(*entity_a(), local_anchor_a_), world_point(*entity_b(), local_anchor_b_));
+}
+
+void FxRevoluteJoint::prepare(FxConstraintContext& context) {
+  anchor_a_ = start_anchor(context, *entity_a(), local_anchor_a_);
+  anchor_b_ = start_anchor(context, *entity_b(), local_anchor_b_);
+  separation0_ = context.center_offset(*entity_a(), *entity_b()) + anchor_b_ - anchor_a_;
+}
+
+void FxRevoluteJoint::warm_start(FxConstraintContext& context) {
+  JointBodies bodies = bodies_of(context, *this);
+  apply(bodies, rotate(bodies.a.delta_rotation, anchor_a_), rotate(bodies.b.delta_rotation, anchor_b_), impulse_);
+}
+
+void FxRevoluteJoint::evaluate(FxConstraintContext& context, bool use_bias) {
+  JointBodies bodies = bodies_of(context, *this);
+  const FxVec2f ra = rotate(bodies.a.delta_rotation, anchor_a_);
+  const FxVec2f rb = rotate(bodies.b.delta_rotation, anchor_b_);
+  FxVec2f bias;
+  float mass_scale = 1.0f;
+  float impulse_scale = 0.0f;
+  if (use_bias) {
+    bias = context.softness.bias_rate * current_separation(bodies, separation0_, anchor_a_, anchor_b_, ra, rb);
+    mass_scale = context.softness.mass_scale;
+    impulse_scale = context.softness.impulse_scale;
+  }
+  // The point constraint's 2x2 effective-mass matrix K = J M^-1 J^T.
+  const float ma = bodies.inv_mass_a, mb = bodies.inv_mass_b, ia = bodies.inv_inertia_a, ib = bodies.inv_inertia_b;
+  Eigen::Matrix2f k;
+  k(0, 0) = ma + mb + ra.y * ra.y * ia + rb.y * rb.y * ib;
+  k(0, 1) = -ra.y * ra.x * ia - rb.y * rb.x * ib;
+  k(1, 0) = k(0, 1);
+  k(1, 1) = ma + mb + ra.x * ra.x * ia + rb.x * rb.x * ib;
+  const FxVec2f cdot = relative_velocity(bodies, ra, rb) + bias;
+  const Eigen::Vector2f solved = k.inverse() * Eigen::Vector2f(cdot.x, cdot.y);
+  const FxVec2f impulse = FxVec2f{-mass_scale * solved.x(), -mass_scale * solved.y()} - impulse_scale * impulse_;
+  impulse_ += impulse;
+  apply(bodies, ra, rb, impulse);
+}
+
+}  // namespace fx2d

@@ -1,0 +1,325 @@
+// The step: a fixed sequence of stages, each one function, each timed as one FxStage.
+//
+//   broad phase      update_broad_phase()   proxies, new pairs          (once per step)
+//   narrow phase     update_contacts()      manifolds, contact cache    (once per step)
+//   velocity passes  prepare_solver()       gather body state, build contact constraints
+//                    solve_substeps()       per substep: integrate velocities, warm start,
+//                                           velocity passes, integrate positions, relaxation passes;
+//                                           then restitution
+//   position solve   solve_positions()      project remaining deep overlaps
+//   integration      finalize_bodies()      write poses back with carries, refresh boxes
+//   bookkeeping      update_sleep(), impulse storage, the step callback
+//
+// Collision runs once per step and substeps stay cheap: contact anchors are fixed for the step
+// and separations are updated from each body's accumulated displacement.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "world.h"
+
+namespace fx2d::detail {
+namespace {
+
+void require(bool condition, const char* field, const char* expected) {
+  if (!condition) throw FxInvalidArgument(std::string("FxSceneSettings: ") + field + ": expected " + expected);
+}
+
+class WorldConstraintContext final : public FxConstraintContext {
+ public:
+  explicit WorldConstraintContext(World& world) : world_(world) {}
+  FxBodyState& state(const FxEntity& e) override { return world_.states[e.packed_index()]; }
+  float inv_mass(const FxEntity& e) const override { return world_.sims[e.packed_index()].inv_mass; }
+  float inv_inertia(const FxEntity& e) const override { return world_.sims[e.packed_index()].inv_inertia; }
+  FxRot start_rotation(const FxEntity& e) const override { return world_.sims[e.packed_index()].rotation; }
+  FxVec2f center_offset(const FxEntity& a, const FxEntity& b) const override {
+    return world_.center_offset(a.packed_index(), b.packed_index());
+  }
+  FxVec2f local_center(const FxEntity& e) const override { return world_.sims[e.packed_index()].local_center; }
+
+ private:
+  World& world_;
+};
+
+// A substep's rate caps a soft constraint's stiffness: above a quarter of it the spring would
+// resolve faster than the substep can represent.
+float capped_hertz(float hertz, float substep_dt) { return std::min(hertz, 0.25f / substep_dt); }
+
+}  // namespace
+
+void validate_settings(const FxSceneSettings& s) {
+  require(is_finite(s.gravity), "gravity", "finite components");
+  require(std::isfinite(s.dt) && s.dt > 0.0f, "dt", "a finite number > 0");
+  require(s.substeps >= 1, "substeps", "an integer >= 1");
+  require(s.velocity_passes >= 1, "velocity_passes", "an integer >= 1");
+  require(s.relax_passes >= 1, "relax_passes", "an integer >= 1");
+  require(s.position_passes >= 0, "position_passes", "an integer >= 0");
+  require(std::isfinite(s.time_to_sleep) && s.time_to_sleep >= 0.0f, "time_to_sleep", "a finite number >= 0");
+  require(std::isfinite(s.linear_sleep_speed) && s.linear_sleep_speed >= 0.0f, "linear_sleep_speed", "a finite number >= 0");
+  require(std::isfinite(s.angular_sleep_speed) && s.angular_sleep_speed >= 0.0f, "angular_sleep_speed", "a finite number >= 0");
+  require(std::isfinite(s.restitution_threshold) && s.restitution_threshold >= 0.0f, "restitution_threshold", "a finite number >= 0");
+  require(std::isfinite(s.contact_hertz) && s.contact_hertz > 0.0f, "contact_hertz", "a finite number > 0");
+  require(std::isfinite(s.contact_damping_ratio) && s.contact_damping_ratio > 0.0f, "contact_damping_ratio", "a finite number > 0");
+  require(std::isfinite(s.joint_hertz) && s.joint_hertz > 0.0f, "joint_hertz", "a finite number > 0");
+  require(std::isfinite(s.joint_damping_ratio) && s.joint_damping_ratio > 0.0f, "joint_damping_ratio", "a finite number > 0");
+  require(std::isfinite(s.max_push_speed) && s.max_push_speed > 0.0f, "max_push_speed", "a finite number > 0");
+  require(std::isfinite(s.linear_slop) && s.linear_slop >= 0.0f, "linear_slop", "a finite number >= 0");
+  require(std::isfinite(s.max_linear_speed) && s.max_linear_speed > 0.0f, "max_linear_speed", "a finite number > 0");
+}
+
+World::World(const FxSceneSettings& s) : settings(s) { validate_settings(settings); }
+
+FxVec2f World::center_offset(std::uint32_t a, std::uint32_t b) const {
+  const BodySim& sa = sims[a];
+  const BodySim& sb = sims[b];
+  const FxVec2f origin_offset = (sb.origin - sa.origin) - (sb.carry - sa.carry);
+  return origin_offset + rotate(sb.rotation, sb.local_center) - rotate(sa.rotation, sa.local_center);
+}
+
+FxVec2f World::world_center(std::uint32_t index) const {
+  const BodySim& sim = sims[index];
+  return sim.origin + rotate(sim.rotation, sim.local_center);
+}
+
+void World::step() {
+  const auto wall_start = std::chrono::steady_clock::now();
+  const std::uint64_t cycle_start = read_cycle_counter();
+  profile = FxProfile{};
+  stepping = true;
+  {
+    FX2D_TIME_STAGE(profile, FxStage::broad_phase);
+    update_broad_phase();
+  }
+  {
+    FX2D_TIME_STAGE(profile, FxStage::narrow_phase);
+    update_contacts();
+  }
+  {
+    FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
+    prepare_solver();
+  }
+  solve_substeps();
+  {
+    FX2D_TIME_STAGE(profile, FxStage::position_solve);
+    solve_positions();
+  }
+  {
+    FX2D_TIME_STAGE(profile, FxStage::integration);
+    finalize_bodies();
+  }
+  {
+    FX2D_TIME_STAGE(profile, FxStage::bookkeeping);
+    solver.store_impulses(contacts);
+    update_sleep();
+  }
+  stepping = false;
+  ++step_index;
+  if (step_callback) {
+    FX2D_TIME_STAGE(profile, FxStage::bookkeeping);
+    step_callback(*owner);
+  }
+#if FX2D_PROFILE
+  profile.step_cycles = read_cycle_counter() - cycle_start;
+  profile.step_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
+  if (profile.step_cycles > 0) {
+    const double ms_per_cycle = profile.step_ms / static_cast<double>(profile.step_cycles);
+    for (int i = 0; i < fx_stage_count; ++i) profile.stage_ms[i] = ms_per_cycle * static_cast<double>(profile.stage_cycles[i]);
+  }
+#else
+  static_cast<void>(wall_start);
+  static_cast<void>(cycle_start);
+#endif
+}
+
+void World::prepare_solver() {
+  // Gather the hot state of every body; sleeping and static ones keep zero velocity and are
+  // never written by a constraint (a touching constraint always has its bodies awake).
+  awake_bodies.clear();
+  states.resize(records.size());
+  for (std::uint32_t i = 0; i < records.size(); ++i) {
+    const bool moves = records[i].awake && records[i].type != FxBodyType::static_body;
+    FxBodyState& state = states[i];
+    state = FxBodyState{};
+    if (!moves) continue;
+    state.linear_velocity = sims[i].linear_velocity;
+    state.angular_velocity = sims[i].angular_velocity;
+    awake_bodies.push_back(i);
+  }
+  solver.prepare(*this);
+}
+
+void World::solve_substeps() {
+  const float h = settings.dt / static_cast<float>(settings.substeps);
+  ContactSolveParams params;
+  params.inv_substep_dt = 1.0f / h;
+  params.max_push_speed = settings.max_push_speed;
+  params.softness = make_softness(capped_hertz(settings.contact_hertz, h), settings.contact_damping_ratio, h);
+
+  WorldConstraintContext context(*this);
+  context.substep_dt = h;
+  context.inv_substep_dt = params.inv_substep_dt;
+  context.softness = make_softness(capped_hertz(settings.joint_hertz, h), settings.joint_damping_ratio, h);
+  context.max_bias_velocity = settings.max_push_speed;
+  const bool has_constraints = !constraints.empty();
+  if (has_constraints) {
+    FX2D_TIME_STAGE(profile, FxStage::constraints);
+    for (const auto& constraint : constraints) constraint->prepare(context);
+  }
+
+  // One pass over every constraint, then every contact: contacts last, so they win conflicts.
+  auto velocity_pass = [&](bool use_bias) {
+    if (has_constraints) {
+      FX2D_TIME_STAGE(profile, FxStage::constraints);
+      for (const auto& constraint : constraints) constraint->evaluate(context, use_bias);
+    }
+    FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
+    solver.solve(states, params, use_bias);
+  };
+
+  const float max_speed = settings.max_linear_speed;
+  for (int substep = 0; substep < settings.substeps; ++substep) {
+    {
+      FX2D_TIME_STAGE(profile, FxStage::integration);
+      // Invariant: awake_bodies holds only awake kinematic and dynamic bodies.
+      for (const std::uint32_t i : awake_bodies) {
+        if (records[i].type != FxBodyType::dynamic) continue;
+        const BodySim& sim = sims[i];
+        const BodyRecord& record = records[i];
+        FxBodyState& state = states[i];
+        const FxVec2f acceleration = settings.gravity + sim.inv_mass * sim.force;
+        FxVec2f v = state.linear_velocity + h * acceleration;
+        v *= 1.0f / (1.0f + h * record.linear_damping);
+        const float speed_squared = length_squared(v);
+        if (speed_squared > max_speed * max_speed) v *= max_speed / std::sqrt(speed_squared);
+        state.linear_velocity = v;
+        state.angular_velocity *= 1.0f / (1.0f + h * record.angular_damping);
+      }
+    }
+    if (has_constraints) {
+      FX2D_TIME_STAGE(profile, FxStage::constraints);
+      for (const auto& constraint : constraints) constraint->warm_start(context);
+    }
+    {
+      FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
+      solver.warm_start(states);
+    }
+    for (int pass = 0; pass < settings.velocity_passes; ++pass) velocity_pass(true);
+    {
+      FX2D_TIME_STAGE(profile, FxStage::integration);
+      for (const std::uint32_t i : awake_bodies) {
+        FxBodyState& state = states[i];
+        state.delta_position += h * state.linear_velocity;
+        state.delta_rotation = integrate_rotation(state.delta_rotation, h * state.angular_velocity);
+      }
+    }
+    for (int pass = 0; pass < settings.relax_passes; ++pass) velocity_pass(false);
+  }
+  FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
+  solver.apply_restitution(states, settings.restitution_threshold);
+}
+
+void World::solve_positions() {
+  for (int pass = 0; pass < settings.position_passes; ++pass) solver.project_positions(states, settings.linear_slop);
+}
+
+void World::finalize_bodies() {
+  const float dt = settings.dt;
+  for (const std::uint32_t i : awake_bodies) {
+    BodySim& sim = sims[i];
+    BodyRecord& record = records[i];
+    const FxBodyState& state = states[i];
+    const FxRot start = sim.rotation;
+    FxRot end = mul(state.delta_rotation, start);
+    const float norm = std::sqrt(end.c * end.c + end.s * end.s);
+    end = {end.c / norm, end.s / norm};
+    // The origin moves with the centre of mass and swings about it as the body turns.
+    const FxVec2f origin_step =
+        state.delta_position + rotate(start, sim.local_center) - rotate(end, sim.local_center);
+    FxCarryAdd(sim.origin, sim.carry, origin_step);
+    sim.rotation = end;
+    sim.linear_velocity = state.linear_velocity;
+    sim.angular_velocity = state.angular_velocity;
+    sim.force = {};
+
+    const bool resting = length_squared(sim.linear_velocity) < settings.linear_sleep_speed * settings.linear_sleep_speed &&
+                         sim.angular_velocity * sim.angular_velocity < settings.angular_sleep_speed * settings.angular_sleep_speed;
+    record.sleep_time = (resting && record.can_sleep) ? record.sleep_time + dt : 0.0f;
+
+    record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
+    if (!tree.fat_box(record.proxy).contains(sim.aabb)) record.moved = true;
+  }
+}
+
+}  // namespace fx2d::detail
+
+namespace fx2d {
+
+bool fx_profiling_enabled() {
+#if FX2D_PROFILE
+  return true;
+#else
+  return false;
+#endif
+}
+
+FxScene::FxScene(const FxSceneSettings& settings) : world_(std::make_unique<detail::World>(settings)) {
+  world_->owner = this;
+}
+
+FxScene::~FxScene() = default;
+
+std::shared_ptr<FxEntity> FxScene::create_entity(const FxEntityDef& def) { return world_->create_entity(def); }
+
+void FxScene::remove_entity(const FxEntity& entity) { world_->remove_entity(world_->index_of(entity)); }
+
+void FxScene::add_constraint(std::shared_ptr<FxConstraint> constraint) { world_->add_constraint(std::move(constraint)); }
+
+void FxScene::remove_constraint(const FxConstraint& constraint) { world_->remove_constraint(constraint); }
+
+void FxScene::step() { world_->step(); }
+
+void FxScene::set_step_callback(std::function<void(FxScene&)> callback) { world_->step_callback = std::move(callback); }
+
+const FxSceneSettings& FxScene::settings() const { return world_->settings; }
+
+void FxScene::set_settings(const FxSceneSettings& settings) {
+  detail::validate_settings(settings);
+  world_->settings = settings;
+  if (!settings.sleeping) {
+    for (std::uint32_t i = 0; i < world_->records.size(); ++i) world_->wake_body(i);
+  }
+}
+
+std::size_t FxScene::entity_count() const { return world_->records.size(); }
+
+const std::shared_ptr<FxEntity>& FxScene::entity(std::uint32_t packed_index) const {
+  return world_->records.at(packed_index).handle;
+}
+
+std::size_t FxScene::constraint_count() const { return world_->constraints.size(); }
+
+int FxScene::contact_count() const { return world_->contacts.touching_count; }
+
+void FxScene::contacts(std::vector<FxContact>& out) const {
+  out.clear();
+  for (const detail::CachedContact& contact : world_->contacts.slots) {
+    if (!contact.touching) continue;
+    FxContact& c = out.emplace_back();
+    c.entity_a = contact.body_a;
+    c.entity_b = contact.body_b;
+    c.normal = contact.manifold.normal;
+    c.point_count = contact.manifold.point_count;
+    const FxVec2f origin_a = world_->sims[contact.body_a].origin;
+    for (int i = 0; i < c.point_count; ++i) {
+      const detail::ManifoldPoint& mp = contact.manifold.points[i];
+      c.points[i] = {origin_a + mp.point, mp.separation, contact.normal_impulse[i], contact.tangent_impulse[i], mp.id};
+    }
+  }
+}
+
+const FxProfile& FxScene::profile() const { return world_->profile; }
+
+std::uint64_t FxScene::step_index() const { return world_->step_index; }
+
+}  // namespace fx2d

@@ -1,0 +1,80 @@
+// Sleeping: an island (dynamic bodies connected by touching contacts or constraints) sleeps as a
+// whole once every body in it has rested for time_to_sleep; a body alone in the air never rests.
+// Islands are found afresh each step with a union-find over the packed arrays, whose roots are
+// the lowest packed index of each island, so the result depends only on the state, not on history.
+// A sleeping body remembers its island's root in sleep_island; waking one wakes them all.
+#include <algorithm>
+
+#include "world.h"
+
+namespace fx2d::detail {
+namespace {
+
+int find_root(std::vector<int>& parent, int i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+void unite(std::vector<int>& parent, int a, int b) {
+  const int ra = find_root(parent, a);
+  const int rb = find_root(parent, b);
+  if (ra < rb) parent[rb] = ra; else parent[ra] = rb;
+}
+
+}  // namespace
+
+void World::update_sleep() {
+  if (!settings.sleeping) return;
+  const int count = static_cast<int>(records.size());
+  island_parent.resize(records.size());
+  for (int i = 0; i < count; ++i) island_parent[i] = i;
+
+  auto links_islands = [&](std::uint32_t a, std::uint32_t b) {
+    return records[a].type == FxBodyType::dynamic && records[b].type == FxBodyType::dynamic &&
+           records[a].awake && records[b].awake;
+  };
+  for (const CachedContact& contact : contacts.slots) {
+    if (contact.touching && links_islands(contact.body_a, contact.body_b)) {
+      unite(island_parent, static_cast<int>(contact.body_a), static_cast<int>(contact.body_b));
+    }
+  }
+  for (const auto& constraint : constraints) {
+    const std::uint32_t a = constraint->entity_a()->packed_index();
+    const std::uint32_t b = constraint->entity_b()->packed_index();
+    if (links_islands(a, b)) unite(island_parent, static_cast<int>(a), static_cast<int>(b));
+  }
+
+  island_min_sleep_time.assign(records.size(), settings.time_to_sleep);
+  for (const std::uint32_t i : awake_bodies) {
+    if (records[i].type != FxBodyType::dynamic) continue;
+    float& island_time = island_min_sleep_time[find_root(island_parent, static_cast<int>(i))];
+    island_time = std::min(island_time, records[i].sleep_time);
+  }
+  for (const std::uint32_t i : awake_bodies) {
+    if (records[i].type != FxBodyType::dynamic) continue;
+    const int root = find_root(island_parent, static_cast<int>(i));
+    if (island_min_sleep_time[root] < settings.time_to_sleep) continue;
+    BodyRecord& record = records[i];
+    record.awake = false;
+    record.sleep_island = root;
+    sims[i].linear_velocity = {};
+    sims[i].angular_velocity = 0.0f;
+  }
+}
+
+void World::wake_body(std::uint32_t index) {
+  const BodyRecord& target = records[index];
+  if (target.awake || target.type == FxBodyType::static_body) return;
+  const int island = target.sleep_island;
+  for (BodyRecord& record : records) {
+    if (record.awake || record.sleep_island != island) continue;
+    record.awake = true;
+    record.sleep_time = 0.0f;
+    record.sleep_island = -1;
+  }
+}
+
+}  // namespace fx2d::detail

@@ -1,0 +1,95 @@
+// The simulation: entities, their contacts and constraints, advanced one fixed step at a time.
+//
+// A step runs a fixed sequence of stages (see Profile.h): broad phase and narrow phase once per
+// step, then `substeps` substeps of velocity integration, `velocity_passes` soft sequential-impulse
+// passes over contacts and constraints, position integration and `relax_passes` relaxation passes; then
+// restitution, a final position projection, pose finalisation and sleeping. Same scene, same
+// settings, same calls: bit-identical state, run to run and process to process.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "fx2d/Constraint.h"
+#include "fx2d/Contact.h"
+#include "fx2d/Entity.h"
+#include "fx2d/Math.h"
+#include "fx2d/Profile.h"
+
+namespace fx2d {
+
+struct FxSceneSettings {
+  FxVec2f gravity{0.0f, -10.0f};       // m/s^2
+  float dt = 1.0f / 60.0f;             // seconds per step, > 0
+  int substeps = 14;                   // >= 1
+  int velocity_passes = 4;             // >= 1, soft passes per substep that also push overlaps apart
+  // >= 1, passes per substep that remove the push velocity again once positions have moved. One
+  // pass leaves a column of overlapping bodies launched at several times max_push_speed (Gauss-
+  // Seidel converges one contact per pass); four bring the fastest under it.
+  int relax_passes = 4;
+  int position_passes = 1;             // >= 0, final projection passes per step
+  bool sleeping = true;                // let resting bodies sleep
+  float time_to_sleep = 0.5f;          // seconds a whole island must rest before it sleeps
+  float linear_sleep_speed = 0.05f;    // m/s below which a body counts as resting
+  float angular_sleep_speed = 0.05f;   // rad/s below which a body counts as resting
+  float restitution_threshold = 1.0f;  // m/s: slower impacts do not bounce
+  float contact_hertz = 120.0f;        // contact stiffness; capped at a quarter of the substep rate
+  float contact_damping_ratio = 10.0f; // dimensionless, > 0
+  float joint_hertz = 60.0f;           // joint stiffness, capped likewise
+  float joint_damping_ratio = 2.0f;
+  float max_push_speed = 3.0f;         // m/s: the fastest an overlap is pushed apart
+  float linear_slop = 0.005f;          // metres of overlap the position projection tolerates
+  float max_linear_speed = 400.0f;     // m/s: velocities are clamped, so no input can overflow
+};
+
+class FxScene {
+ public:
+  // Throws FxInvalidArgument naming the field: non-finite gravity, dt <= 0, substeps < 1, ...
+  explicit FxScene(const FxSceneSettings& settings = {});
+  ~FxScene();
+  FxScene(const FxScene&) = delete;
+  FxScene& operator=(const FxScene&) = delete;
+
+  // Adds an entity. Throws FxInvalidArgument naming the field for non-finite pose or velocity,
+  // density <= 0 on a dynamic body, negative friction, restitution outside 0..1, negative damping.
+  std::shared_ptr<FxEntity> create_entity(const FxEntityDef& def);
+  // Removes an entity and its contacts and constraints; wakes what touched it. Allowed at any
+  // time outside step(), including from the step callback. Other handles stay valid.
+  void remove_entity(const FxEntity& entity);
+
+  // Adds a constraint whose entities are in this scene (throws FxInvalidArgument otherwise).
+  void add_constraint(std::shared_ptr<FxConstraint> constraint);
+  void remove_constraint(const FxConstraint& constraint);
+
+  // Advances the scene by settings().dt. Never throws for a scene built from valid input.
+  void step();
+
+  // Called at the end of every step, after the solve; it may create and remove entities.
+  void set_step_callback(std::function<void(FxScene&)> callback);
+
+  const FxSceneSettings& settings() const;
+  // Changes solver settings between steps (validated like the constructor's).
+  void set_settings(const FxSceneSettings& settings);
+
+  std::size_t entity_count() const;
+  // The entity at a packed index (0 .. entity_count()-1).
+  const std::shared_ptr<FxEntity>& entity(std::uint32_t packed_index) const;
+  std::size_t constraint_count() const;
+
+  // Touching contact manifolds (entity pairs with at least one contact point) after the last step.
+  int contact_count() const;
+  // Copies the touching manifolds into `out` (cleared first), in the solver's order.
+  void contacts(std::vector<FxContact>& out) const;
+
+  // The stage timings of the last step (zero unless built with FX2D_PROFILE).
+  const FxProfile& profile() const;
+  std::uint64_t step_index() const;
+
+ private:
+  std::unique_ptr<detail::World> world_;
+};
+
+}  // namespace fx2d

@@ -1,0 +1,64 @@
+// The contact cache: one record per pair of bodies whose fat boxes overlap, kept across steps so
+// that each point's impulses carry over to the next step (warm starting).
+//
+// Records live in a slot vector with a free list; a record's id is its slot and never changes
+// while it lives. Each body keeps an intrusive doubly linked list of its contacts through
+// "edges" (edge = 2 * id + side, side 0 for body_a and 1 for body_b), so "does this pair have a
+// contact?" walks one short list instead of probing a hash map. Invariant: body_a < body_b (packed
+// indices), and a pair has at most one live record.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "collide.h"
+
+namespace fx2d::detail {
+
+struct CachedContact {
+  std::uint32_t body_a = 0;
+  std::uint32_t body_b = 0;
+  int next_edge[2] = {-1, -1};
+  int prev_edge[2] = {-1, -1};
+  Manifold manifold;
+  float normal_impulse[2] = {0.0f, 0.0f};
+  float tangent_impulse[2] = {0.0f, 0.0f};
+  // Material resolved once per pair.
+  float static_friction = 0.0f;
+  float dynamic_friction = 0.0f;
+  float restitution = 0.0f;
+  bool touching = false;
+  bool alive = false;
+};
+
+class ContactCache {
+ public:
+  // Creates the record for (a, b), a < b, linking it into both bodies' lists.
+  int create(std::uint32_t a, std::uint32_t b, int& head_a, int& head_b);
+  // Unlinks and frees a record.
+  void destroy(int id, int& head_a, int& head_b);
+  // True when the body whose list starts at `head` has a contact with `other`.
+  bool has_pair(int head, std::uint32_t other) const;
+
+  // Replaces a record's manifold, carrying impulses over from points with the same feature id.
+  void update_manifold(CachedContact& contact, const Manifold& manifold);
+
+  static int contact_of(int edge) { return edge >> 1; }
+  static int side_of(int edge) { return edge & 1; }
+  std::uint32_t other_body(int edge) const {
+    const CachedContact& c = slots[contact_of(edge)];
+    return side_of(edge) == 0 ? c.body_b : c.body_a;
+  }
+  int next(int edge) const { return slots[contact_of(edge)].next_edge[side_of(edge)]; }
+
+  std::vector<CachedContact> slots;
+  int touching_count = 0;
+
+ private:
+  void link(int edge, int& head);
+  void unlink(int edge, int& head);
+
+  int free_head_ = -1;
+};
+
+}  // namespace fx2d::detail

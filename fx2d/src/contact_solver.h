@@ -1,0 +1,69 @@
+// Contact constraints for one step: soft sequential impulses on the normal and friction rows.
+//
+// prepare() copies everything a velocity pass needs (body indices, inverse masses, anchors,
+// effective masses, the resolved friction) into one contiguous array, so that the substep loop
+// touches no body record and no cache entry. Anchors are taken relative to the centres of mass
+// at the step's start, and the current separation is recovered from the bodies' displacement
+// since then, so contacts are solved without re-running collision in every substep (Catto,
+// "Solver2D", 2024: soft step with relaxation).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "fx2d/Constraint.h"
+
+namespace fx2d::detail {
+
+class World;
+class ContactCache;
+
+struct ContactPointConstraint {
+  FxVec2f anchor_a;               // contact point minus centre of mass a, at the step's start
+  FxVec2f anchor_b;
+  float adjusted_separation = 0;  // separation less the anchors' offset along the normal
+  float normal_mass = 0;
+  float tangent_mass = 0;
+  float normal_impulse = 0;
+  float tangent_impulse = 0;
+  float max_normal_impulse = 0;   // largest impulse of the step: did this point ever push?
+  float relative_velocity = 0;    // normal velocity before the step, for restitution
+};
+
+struct ContactConstraint {
+  std::uint32_t body_a = 0;
+  std::uint32_t body_b = 0;
+  int cache_id = 0;
+  int point_count = 0;
+  FxVec2f normal;
+  float inv_mass_a = 0, inv_inertia_a = 0;
+  float inv_mass_b = 0, inv_inertia_b = 0;
+  float friction = 0;
+  float restitution = 0;
+  ContactPointConstraint points[2];
+};
+
+struct ContactSolveParams {
+  FxSoftness softness;
+  float inv_substep_dt = 0;
+  float max_push_speed = 0;
+};
+
+class ContactSolver {
+ public:
+  // Builds one constraint per touching contact that has an awake body.
+  void prepare(const World& world);
+  void warm_start(std::span<FxBodyState> states) const;
+  // One velocity pass. With use_bias, overlaps are pushed apart (softly); without, it relaxes.
+  void solve(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias);
+  // After the substeps: bounce where an approaching point pushed and restitution is > 0.
+  void apply_restitution(std::span<FxBodyState> states, float threshold);
+  // Non-linear Gauss-Seidel projection of overlaps deeper than the slop, on positions only.
+  void project_positions(std::span<FxBodyState> states, float linear_slop) const;
+  void store_impulses(ContactCache& cache) const;
+
+  std::vector<ContactConstraint> constraints;
+};
+
+}  // namespace fx2d::detail

@@ -1,0 +1,133 @@
+// The scene's storage and the step's stages.
+//
+// Bodies are stored packed, in creation order, split by who reads them: BodyRecord is cold (what
+// the organiser needs: type, shape, material, proxy, contact list, sleep state), BodySim is warm
+// (pose and velocity between steps, what integration and the narrow phase read), and FxBodyState
+// is the hot 32-byte record the velocity passes touch, gathered once per step into `states`.
+// Invariant: every array is indexed by packed index and has entity_count() entries; removal
+// compacts them all in one pass, preserving order, and remaps every stored index.
+//
+// The step is a fixed sequence of stage functions (scene.cpp); each is timed as one FxStage.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "aabb_tree.h"
+#include "contact_cache.h"
+#include "contact_solver.h"
+#include "fx2d/Constraint.h"
+#include "fx2d/Entity.h"
+#include "fx2d/Profile.h"
+#include "fx2d/Scene.h"
+#include "profile_timer.h"
+
+namespace fx2d::detail {
+
+struct BodyRecord {
+  std::shared_ptr<FxEntity> handle;
+  FxShape shape;
+  FxMaterial material;
+  FxBodyType type = FxBodyType::dynamic;
+  bool can_sleep = true;
+  bool awake = true;
+  bool moved = false;          // its proxy moved this step: search it for new pairs
+  float mass = 0.0f;
+  float rotational_inertia = 0.0f;
+  float linear_damping = 0.0f;
+  float angular_damping = 0.0f;
+  float sleep_time = 0.0f;     // seconds it has been resting
+  int proxy = AabbTree::null_node;
+  int contact_head = -1;       // first contact edge touching this body (contact_cache.h)
+  int sleep_island = -1;       // while asleep: the packed index that named its island
+};
+
+struct BodySim {
+  FxVec2f origin;              // body origin; the precise value is origin - carry
+  FxVec2f carry;
+  FxRot rotation;
+  FxVec2f local_center;        // centre of mass in the body frame
+  FxVec2f linear_velocity;     // of the centre of mass
+  float angular_velocity = 0.0f;
+  float inv_mass = 0.0f;
+  float inv_inertia = 0.0f;
+  FxVec2f force;               // accumulated by apply_force(), cleared by the step
+  FxAABB aabb;                 // tight bounds at the current pose
+};
+
+struct Snapshot {
+  BodyRecord record;
+  BodySim sim;
+};
+
+class World final {
+ public:
+  explicit World(const FxSceneSettings& settings);
+  ~World();
+
+  // Entities.
+  std::shared_ptr<FxEntity> create_entity(const FxEntityDef& def);
+  void remove_entity(std::uint32_t index);
+  void wake_body(std::uint32_t index);
+  void refresh_aabb(std::uint32_t index);
+  std::uint32_t index_of(const FxEntity& entity) const;
+
+  // Constraints.
+  void add_constraint(std::shared_ptr<FxConstraint> constraint);
+  void remove_constraint(const FxConstraint& constraint);
+
+  void step();
+
+  // Step stages, in order.
+  void update_broad_phase();
+  void rebuild_jointed_pairs();
+  bool jointed(std::uint32_t a, std::uint32_t b) const;
+  void update_contacts();
+  void prepare_solver();
+  void solve_substeps();
+  void solve_positions();
+  void finalize_bodies();
+  void update_sleep();
+
+  float speculative_distance(std::uint32_t a, std::uint32_t b) const;
+  FxVec2f center_offset(std::uint32_t a, std::uint32_t b) const;
+  FxVec2f world_center(std::uint32_t index) const;
+  bool is_movable(std::uint32_t index) const { return records[index].type != FxBodyType::static_body; }
+
+  FxSceneSettings settings;
+  std::vector<BodyRecord> records;
+  std::vector<BodySim> sims;
+  std::vector<FxBodyState> states;
+  std::vector<std::shared_ptr<FxConstraint>> constraints;
+  // Pairs (a << 32 | b, a < b) joined by a constraint, sorted: they never collide.
+  std::vector<std::uint64_t> jointed_pairs;
+  bool jointed_pairs_dirty = false;
+
+  AabbTree tree;
+  std::vector<std::uint32_t> body_of_proxy;  // proxy id -> packed index
+  ContactCache contacts;
+  ContactSolver solver;
+
+  std::function<void(FxScene&)> step_callback;
+  FxScene* owner = nullptr;
+  FxProfile profile;
+  std::uint64_t step_index = 0;
+  bool stepping = false;
+
+  // Scratch reused every step, so a step allocates nothing once these have grown.
+  std::vector<std::uint32_t> moved_bodies;
+  std::vector<std::uint32_t> awake_bodies;
+  std::vector<int> island_parent;
+  std::vector<float> island_min_sleep_time;
+  std::vector<std::uint32_t> index_remap;
+};
+
+// A proxy's fat box: the tight box enlarged by a margin and swept by one step's displacement.
+FxAABB fat_box_for(const FxAABB& tight, FxVec2f displacement);
+
+// Throws FxInvalidArgument unless every setting is in range.
+void validate_settings(const FxSceneSettings& settings);
+
+}  // namespace fx2d::detail

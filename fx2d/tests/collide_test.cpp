@@ -1,0 +1,219 @@
+// Tests for the narrow phase: manifolds with known geometry, speculative filtering, feature ids
+// and the direction of the normal.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "collide.h"
+
+namespace fx2d::detail {
+namespace {
+
+// Coordinates here are below 10 m, where a float ulp is under 1e-6 m and each result is a few
+// roundings away from exact; 1e-5 m is far below any geometric mistake the tests look for.
+constexpr float tolerance = 1.0e-5f;
+constexpr float speculative = 0.02f;  // four linear slops, as the solver uses
+
+FxTransform at(float x, float y, float angle = 0.0f) { return {{x, y}, FxRot::from_angle(angle)}; }
+
+Manifold collide_pair(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
+                      float speculative_distance = speculative) {
+  Manifold m;
+  collide(a, xf_a, b, xf_b, speculative_distance, m);
+  return m;
+}
+
+void expect_near(FxVec2f actual, FxVec2f expected) {
+  EXPECT_NEAR(actual.x, expected.x, tolerance);
+  EXPECT_NEAR(actual.y, expected.y, tolerance);
+}
+
+// The manifold's points ordered by x, to compare with expectations independent of clip order.
+void sort_by_x(Manifold& m) {
+  if (m.point_count == 2 && m.points[1].point.x < m.points[0].point.x) std::swap(m.points[0], m.points[1]);
+}
+
+TEST(CollideCircles, SeparatedCirclesReportDistanceMinusRadiiAlongCentreLine) {
+  const FxShape a = FxShape::circle(1.0f);
+  const FxShape b = FxShape::circle(0.5f);
+  // Centres 5 apart along (0.6, 0.8): surfaces at (0.6, 0.8) and (2.7, 3.6), 3.5 apart.
+  const Manifold m = collide_pair(a, at(0.0f, 0.0f), b, at(3.0f, 4.0f), 4.0f);
+  ASSERT_EQ(m.point_count, 1);
+  EXPECT_NEAR(m.points[0].separation, 3.5f, tolerance);
+  expect_near(m.normal, {0.6f, 0.8f});
+  expect_near(m.points[0].point, {1.65f, 2.2f});
+  EXPECT_EQ(collide_pair(a, at(0.0f, 0.0f), b, at(3.0f, 4.0f), 3.5f).point_count, 0);
+}
+
+TEST(CollideCircles, TouchingCirclesReportZeroSeparation) {
+  const FxShape circle = FxShape::circle(0.5f);
+  const Manifold m = collide_pair(circle, at(0.0f, 0.0f), circle, at(1.0f, 0.0f));
+  ASSERT_EQ(m.point_count, 1);
+  EXPECT_EQ(m.points[0].separation, 0.0f);
+  expect_near(m.points[0].point, {0.5f, 0.0f});
+}
+
+TEST(CollidePolygons, BoxRestingOnBoxTouchesAtTheCornersOfTheOverlap) {
+  const FxShape ground = FxShape::box(2.0f, 0.5f);
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  // Ground top at y = 0; the box spans x in [-0.2, 0.8] and sits on it exactly.
+  Manifold m = collide_pair(ground, at(0.0f, -0.5f), box, at(0.3f, 0.5f));
+  ASSERT_EQ(m.point_count, 2);
+  sort_by_x(m);
+  EXPECT_EQ(m.normal, (FxVec2f{0.0f, 1.0f}));
+  for (const ManifoldPoint& p : m.points) EXPECT_EQ(p.separation, 0.0f);
+  expect_near(m.points[0].point, {-0.2f, 0.0f});
+  expect_near(m.points[1].point, {0.8f, 0.0f});
+}
+
+TEST(CollidePolygons, BoxOverhangingTheEdgeIsClippedToTheSupport) {
+  const FxShape ground = FxShape::box(2.0f, 0.5f);
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  // The box spans x in [1.7, 2.7]; the ground ends at x = 2, so the overlap is [1.7, 2].
+  Manifold m = collide_pair(ground, at(0.0f, -0.5f), box, at(2.2f, 0.5f));
+  ASSERT_EQ(m.point_count, 2);
+  sort_by_x(m);
+  expect_near(m.points[0].point, {1.7f, 0.0f});
+  expect_near(m.points[1].point, {2.0f, 0.0f});
+}
+
+TEST(CollidePolygons, OverlappingBoxesReportPenetrationDepth) {
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  // Centres 0.9 apart vertically: 0.1 of overlap, points midway at y = 0.45.
+  Manifold m = collide_pair(box, at(0.0f, 0.0f), box, at(0.0f, 0.9f));
+  ASSERT_EQ(m.point_count, 2);
+  sort_by_x(m);
+  expect_near(m.normal, {0.0f, 1.0f});
+  for (const ManifoldPoint& p : m.points) EXPECT_NEAR(p.separation, -0.1f, tolerance);
+  expect_near(m.points[0].point, {-0.5f, 0.45f});
+  expect_near(m.points[1].point, {0.5f, 0.45f});
+}
+
+TEST(CollidePolygons, RotatedBoxCornerOnAFaceGivesOnePoint) {
+  const FxShape ground = FxShape::box(2.0f, 0.5f);
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  const float angle = 0.6f;
+  const float c = std::cos(angle);
+  const float s = std::sin(angle);
+  // The lowest corner, local (-0.5, -0.5) rotated, lies 0.5 (c + s) below the centre; sink it 0.01.
+  const FxVec2f corner_offset{0.5f * (s - c), -0.5f * (c + s)};
+  const FxVec2f center{0.1f, -corner_offset.y - 0.01f};
+  const Manifold m = collide_pair(ground, at(0.0f, -0.5f), box, {center, {c, s}});
+  ASSERT_EQ(m.point_count, 1);
+  expect_near(m.normal, {0.0f, 1.0f});
+  EXPECT_NEAR(m.points[0].separation, -0.01f, tolerance);
+  expect_near(m.points[0].point, {center.x + corner_offset.x, -0.005f});
+}
+
+TEST(CollidePolygons, PointsBeyondTheSpeculativeDistanceAreDropped) {
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  // A gap of 0.03 m between the faces.
+  EXPECT_EQ(collide_pair(box, at(0.0f, 0.0f), box, at(0.0f, 1.03f), 0.02f).point_count, 0);
+  const Manifold m = collide_pair(box, at(0.0f, 0.0f), box, at(0.0f, 1.03f), 0.04f);
+  ASSERT_EQ(m.point_count, 2);
+  for (const ManifoldPoint& p : m.points) EXPECT_NEAR(p.separation, 0.03f, tolerance);
+  // A tilted box whose near corner is inside the speculative band and whose far corner is not.
+  const Manifold tilted = collide_pair(box, at(0.0f, 0.0f), box, at(0.0f, 1.0f, 0.02f), 0.005f);
+  ASSERT_EQ(tilted.point_count, 1);
+  EXPECT_LT(tilted.points[0].separation, 0.005f);
+}
+
+TEST(CollidePolygons, FeatureIdsAreStableUnderSmallMotionAndDistinctWithinAManifold) {
+  const FxShape ground = FxShape::box(2.0f, 0.5f);
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  Manifold before = collide_pair(ground, at(0.0f, -0.5f), box, at(0.3f, 0.5f, 0.01f));
+  Manifold after = collide_pair(ground, at(0.0f, -0.5f), box, at(0.31f, 0.499f, 0.012f));
+  ASSERT_EQ(before.point_count, 2);
+  ASSERT_EQ(after.point_count, 2);
+  sort_by_x(before);
+  sort_by_x(after);
+  EXPECT_NE(before.points[0].id, before.points[1].id);
+  EXPECT_EQ(before.points[0].id, after.points[0].id);
+  EXPECT_EQ(before.points[1].id, after.points[1].id);
+}
+
+TEST(CollidePolygons, SwappingTheShapesKeepsThePointButNotTheId) {
+  const FxShape ground = FxShape::box(2.0f, 0.5f);
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  // A tilted box's corner on the ground: the ground's top face is the reference whichever shape
+  // is A, so the point and depth agree, while the id records that the reference moved to B.
+  const Manifold ab = collide_pair(box, at(0.3f, 0.5f, 0.2f), ground, at(0.0f, -0.5f));
+  const Manifold ba = collide_pair(ground, at(0.0f, -0.5f), box, at(0.3f, 0.5f, 0.2f));
+  ASSERT_EQ(ab.point_count, 1);
+  ASSERT_EQ(ba.point_count, 1);
+  EXPECT_NE(ab.points[0].id, ba.points[0].id);
+  EXPECT_NEAR(ab.points[0].separation, ba.points[0].separation, tolerance);
+  expect_near(ab.points[0].point, ba.points[0].point);
+}
+
+TEST(CollidePolygons, EqualBoxesRockingSlightlyKeepTheirReferenceFace) {
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  // A tilt of 1e-4 rad changes the two faces' separations by about 5e-5 m, well inside the
+  // 5e-4 m hysteresis, so A's face stays the reference and the ids do not change.
+  Manifold left = collide_pair(box, at(0.0f, 0.0f), box, at(0.2f, 0.999f, -1.0e-4f));
+  Manifold right = collide_pair(box, at(0.0f, 0.0f), box, at(0.2f, 0.999f, 1.0e-4f));
+  ASSERT_EQ(left.point_count, 2);
+  ASSERT_EQ(right.point_count, 2);
+  sort_by_x(left);
+  sort_by_x(right);
+  EXPECT_EQ(left.points[0].id, right.points[0].id);
+  EXPECT_EQ(left.points[1].id, right.points[1].id);
+}
+
+TEST(Collide, NormalPointsFromAToBForBothArgumentOrders) {
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  const FxShape wide = FxShape::box(1.5f, 0.25f);
+  const FxShape circle = FxShape::circle(0.4f);
+  const FxTransform xf_a = at(0.2f, -0.1f, 0.3f);
+  const FxTransform xf_b = at(1.0f, 0.6f, -0.2f);
+  for (const FxShape* a : {&box, &wide, &circle}) {
+    for (const FxShape* b : {&box, &wide, &circle}) {
+      const Manifold forward = collide_pair(*a, xf_a, *b, xf_b, 1.0f);
+      const Manifold backward = collide_pair(*b, xf_b, *a, xf_a, 1.0f);
+      ASSERT_GT(forward.point_count, 0);
+      ASSERT_GT(backward.point_count, 0);
+      // B lies up and to the right of A, so the normal must lean that way.
+      EXPECT_GT(dot(forward.normal, xf_b.p - xf_a.p), 0.0f);
+      expect_near(backward.normal, -forward.normal);
+      EXPECT_NEAR(length(forward.normal), 1.0f, 1.0e-6f);
+    }
+  }
+}
+
+TEST(CollidePolygonCircle, CircleInsidePolygonUsesFaceOfLeastPenetration) {
+  const FxShape box = FxShape::box(1.0f, 0.5f);
+  const FxShape circle = FxShape::circle(0.2f);
+  // The centre (0.3, 0.1) is 0.4 below the top face, nearer than to any other: separation
+  // -(0.4 + 0.2); surfaces at (0.3, 0.5) and (0.3, -0.1), midway (0.3, 0.2).
+  const Manifold m = collide_pair(box, at(0.0f, 0.0f), circle, at(0.3f, 0.1f));
+  ASSERT_EQ(m.point_count, 1);
+  expect_near(m.normal, {0.0f, 1.0f});
+  EXPECT_NEAR(m.points[0].separation, -0.6f, tolerance);
+  expect_near(m.points[0].point, {0.3f, 0.2f});
+}
+
+TEST(CollidePolygonCircle, CircleNearACornerSeparatesFromTheVertex) {
+  const FxShape box = FxShape::box(1.0f, 0.5f);
+  const FxShape circle = FxShape::circle(0.25f);
+  // The centre is (0.3, 0.4) beyond the corner (1, 0.5): 0.5 away, separation 0.25.
+  const Manifold m = collide_pair(box, at(0.0f, 0.0f), circle, at(1.3f, 0.9f), 0.3f);
+  ASSERT_EQ(m.point_count, 1);
+  expect_near(m.normal, {0.6f, 0.8f});
+  EXPECT_NEAR(m.points[0].separation, 0.25f, tolerance);
+  // Midway between the corner and the circle's surface at (1.15, 0.7).
+  expect_near(m.points[0].point, {1.075f, 0.6f});
+  EXPECT_EQ(collide_pair(box, at(0.0f, 0.0f), circle, at(1.3f, 0.9f), 0.24f).point_count, 0);
+}
+
+TEST(CollidePolygonCircle, CircleAboveAFaceSeparatesAlongTheFaceNormal) {
+  const FxShape box = FxShape::box(1.0f, 0.5f);
+  const FxShape circle = FxShape::circle(0.25f);
+  const Manifold m = collide_pair(box, at(0.0f, 0.0f, 0.5f * 3.14159265f), circle, at(-0.7f, 0.2f));
+  // A quarter turn makes the box's top face point to -x at x = -0.5; the centre is 0.2 beyond it.
+  ASSERT_EQ(m.point_count, 1);
+  expect_near(m.normal, {-1.0f, 0.0f});
+  EXPECT_NEAR(m.points[0].separation, -0.05f, tolerance);
+}
+
+}  // namespace
+}  // namespace fx2d::detail

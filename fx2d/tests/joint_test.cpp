@@ -1,0 +1,133 @@
+// Joints: a distance-joint pendulum keeps its length and period; a revolute chain holds together.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "test_bodies.h"
+
+namespace fx2d {
+namespace {
+
+using test::add_circle;
+
+std::shared_ptr<FxEntity> add_anchor(FxScene& scene, FxVec2f position) {
+  FxEntityDef def;
+  def.type = FxBodyType::static_body;
+  def.shape = FxShape::circle(0.1f);
+  def.position = position;
+  return scene.create_entity(def);
+}
+
+TEST(Joints, DistancePendulumKeepsItsLengthForTenSeconds) {
+  FxScene scene;
+  auto pivot = add_anchor(scene, {0.0f, 10.0f});
+  auto bob = add_circle(scene, {2.0f, 10.0f}, 0.25f);
+  auto rod = std::make_shared<FxDistanceJoint>(pivot, bob, FxVec2f{}, FxVec2f{});
+  scene.add_constraint(rod);
+  ASSERT_NEAR(rod->length(), 2.0f, 1e-6f);
+  float worst = 0.0f;
+  float lowest = 10.0f;
+  for (int i = 0; i < 600; ++i) {
+    scene.step();
+    worst = std::max(worst, std::fabs(rod->current_length() - 2.0f));
+    lowest = std::min(lowest, bob->position().y);
+  }
+  // The soft rod stretches by tension/(m omega^2) <= 3 g / (2 pi 60 Hz)^2 = 0.2 mm at the bottom
+  // of the swing; bound it at 2 mm over 600 steps.
+  EXPECT_LT(worst, 2e-3f);
+  // Released level, the bob swings through the bottom, 2 m below the pivot.
+  EXPECT_NEAR(lowest, 8.0f, 0.01f);
+}
+
+TEST(Joints, PendulumPeriodMatchesSmallAngleTheory) {
+  FxSceneSettings settings;
+  FxScene scene(settings);
+  const float length = 1.0f;
+  auto pivot = add_anchor(scene, {0.0f, 5.0f});
+  const float start_angle = 0.1f;
+  auto bob = add_circle(scene, {length * std::sin(start_angle), 5.0f - length * std::cos(start_angle)}, 0.05f);
+  scene.add_constraint(std::make_shared<FxDistanceJoint>(pivot, bob, FxVec2f{}, FxVec2f{}));
+  // Time two crossings of the vertical from the same side: one period.
+  std::vector<float> crossings;
+  float previous_x = bob->position().x;
+  for (int i = 1; i <= 600 && crossings.size() < 3; ++i) {
+    scene.step();
+    const float x = bob->position().x;
+    if ((previous_x > 0.0f) != (x > 0.0f)) crossings.push_back(static_cast<float>(i) * settings.dt);
+    previous_x = x;
+  }
+  ASSERT_EQ(crossings.size(), 3u);
+  const float period = crossings[2] - crossings[0];
+  // T = 2 pi sqrt(L/g) (1 + theta^2/16) for a point mass; the bob's own inertia (r = 0.05 m)
+  // adds (2/5 r^2/L^2)/2 = 0.05%. Crossings are read to one step (1/60 s) at each end.
+  const float expected = 2.0f * 3.14159265f * std::sqrt(length / 10.0f) * (1.0f + 0.01f / 16.0f);
+  EXPECT_NEAR(period, expected, 2.0f / 60.0f);
+}
+
+// A chain of eight light links pinned at one end, carrying a load `ratio` times a link's mass,
+// released horizontally. Returns the largest pin gap seen and the lowest point of the load.
+struct ChainResult {
+  float worst_gap;
+  float lowest_load;
+};
+
+ChainResult swing_chain(float ratio) {
+  FxScene scene;
+  auto anchor = add_anchor(scene, {0.0f, 10.0f});
+  std::vector<std::shared_ptr<FxRevoluteJoint>> joints;
+  std::shared_ptr<FxEntity> previous = anchor;
+  FxEntityDef link;
+  link.shape = FxShape::box(0.25f, 0.05f);  // 0.05 kg
+  for (int i = 0; i < 8; ++i) {
+    link.position = {0.25f + 0.5f * static_cast<float>(i), 10.0f};
+    auto body = scene.create_entity(link);
+    joints.push_back(std::make_shared<FxRevoluteJoint>(previous, body, FxVec2f{0.5f * static_cast<float>(i), 10.0f}));
+    previous = body;
+  }
+  FxEntityDef load;
+  load.shape = FxShape::box(0.25f, 0.25f);
+  load.material.density = ratio * 0.05f / 0.25f;
+  load.position = {4.0f, 10.0f};
+  auto weight = scene.create_entity(load);
+  joints.push_back(std::make_shared<FxRevoluteJoint>(previous, weight, FxVec2f{4.0f, 10.0f}));
+  for (const auto& joint : joints) scene.add_constraint(joint);
+  ChainResult result{0.0f, 10.0f};
+  for (int i = 0; i < 240; ++i) {
+    scene.step();
+    for (const auto& joint : joints) result.worst_gap = std::max(result.worst_gap, joint->anchor_gap());
+    result.lowest_load = std::min(result.lowest_load, weight->position().y);
+  }
+  return result;
+}
+
+TEST(Joints, RevoluteChainCarriesTenTimesALinkWithoutOpening) {
+  const ChainResult result = swing_chain(10.0f);
+  // At the bottom of the swing the pins carry the load's weight plus its centripetal force,
+  // about 3 m g = 15 N; a 60 Hz soft pin on a 0.05 kg link yields 15 / (0.05 (2 pi 60)^2) = 2 mm.
+  // Bound: 1 cm for the worst pin at the worst moment.
+  EXPECT_LT(result.worst_gap, 0.01f);
+  // The load hangs on the last pin, 4 m of chain from the anchor: it can never get lower than
+  // 4 m below it plus the yield of the 9 pins, and swinging through, the curved chain reaches
+  // within 10% of that.
+  EXPECT_GT(result.lowest_load, 10.0f - 4.0f - 9.0f * result.worst_gap);
+  EXPECT_LT(result.lowest_load, 10.0f - 0.9f * 4.0f);
+}
+
+TEST(Joints, ConstraintRejectsBadEntities) {
+  FxScene scene;
+  auto a = add_anchor(scene, {0.0f, 0.0f});
+  auto b = add_anchor(scene, {1.0f, 0.0f});
+  auto c = add_circle(scene, {2.0f, 0.0f});
+  EXPECT_THROW(FxDistanceJoint(a, b, {}, {}), FxInvalidArgument);  // both static
+  EXPECT_THROW(FxDistanceJoint(c, c, {}, {}), FxInvalidArgument);  // the same entity twice
+  EXPECT_THROW(FxDistanceJoint(nullptr, c, {}, {}), FxInvalidArgument);
+  FxScene other;
+  auto stranger = add_circle(other, {0.0f, 0.0f});
+  EXPECT_THROW(scene.add_constraint(std::make_shared<FxDistanceJoint>(a, stranger, FxVec2f{}, FxVec2f{})),
+               FxInvalidArgument);
+}
+
+}  // namespace
+}  // namespace fx2d

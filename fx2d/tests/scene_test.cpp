@@ -1,0 +1,202 @@
+// The scene as a registry and an API: packed indices, removal at any time (also from the step
+// callback), handles that outlive removal and the scene, validation that names the field, and
+// determinism within a process.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "test_bodies.h"
+
+namespace fx2d {
+namespace {
+
+using test::add_box;
+using test::add_circle;
+using test::add_ground;
+using test::run;
+
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const FxInvalidArgument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Registry, PackedIndicesFollowCreationOrderAndCloseGapsOnRemoval) {
+  FxScene scene;
+  auto a = add_circle(scene, {0.0f, 0.0f});
+  auto b = add_circle(scene, {2.0f, 0.0f});
+  auto c = add_circle(scene, {4.0f, 0.0f});
+  EXPECT_EQ(a->packed_index(), 0u);
+  EXPECT_EQ(c->packed_index(), 2u);
+  scene.remove_entity(*b);
+  EXPECT_EQ(scene.entity_count(), 2u);
+  EXPECT_EQ(c->packed_index(), 1u);
+  EXPECT_EQ(scene.entity(1).get(), c.get());
+  EXPECT_FALSE(b->in_scene());
+  EXPECT_NEAR(b->position().x, 2.0f, 1e-6f);  // a detached handle reports its last pose
+}
+
+TEST(Registry, EntitiesCanBeAddedAndRemovedFromTheStepCallback) {
+  FxScene scene;
+  add_ground(scene);
+  std::vector<std::shared_ptr<FxEntity>> spawned;
+  scene.set_step_callback([&](FxScene& s) {
+    if (s.step_index() % 10 == 0) spawned.push_back(add_box(s, {0.0f, 5.0f}));
+    if (spawned.size() > 3) {
+      s.remove_entity(*spawned.front());
+      spawned.erase(spawned.begin());
+    }
+  });
+  run(scene, 2.0f);
+  EXPECT_EQ(spawned.size(), 3u);
+  EXPECT_EQ(scene.entity_count(), 4u);
+  for (const auto& box : spawned) {
+    EXPECT_TRUE(box->in_scene());
+    EXPECT_TRUE(std::isfinite(box->position().y));
+  }
+}
+
+TEST(Registry, RemovedEntityTakesItsContactsAndConstraintsWithIt) {
+  FxScene scene;
+  add_ground(scene);
+  auto a = add_box(scene, {0.0f, 0.5f});
+  auto b = add_box(scene, {0.0f, 1.5f});
+  scene.add_constraint(std::make_shared<FxDistanceJoint>(a, b, FxVec2f{}, FxVec2f{}));
+  run(scene, 0.1f);
+  EXPECT_EQ(scene.contact_count(), 1);  // a on the ground; jointed a and b never collide
+  scene.remove_entity(*a);
+  EXPECT_EQ(scene.constraint_count(), 0u);
+  EXPECT_EQ(scene.contact_count(), 0);
+  run(scene, 1.0f);
+  EXPECT_NEAR(b->position().y, 0.5f, 0.01f);
+  EXPECT_EQ(scene.contact_count(), 1);
+}
+
+TEST(Registry, HandlesOutliveTheScene) {
+  std::shared_ptr<FxEntity> survivor;
+  {
+    FxScene scene;
+    survivor = add_circle(scene, {1.0f, 2.0f});
+    run(scene, 0.1f);
+  }
+  EXPECT_FALSE(survivor->in_scene());
+  EXPECT_LT(survivor->position().y, 2.0f);
+  EXPECT_THROW(survivor->set_linear_velocity({1.0f, 0.0f}), FxInvalidArgument);
+}
+
+TEST(Validation, SceneSettingsNameTheBadField) {
+  FxSceneSettings s;
+  s.dt = 0.0f;
+  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("dt"), std::string::npos);
+  s = {};
+  s.substeps = 0;
+  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("substeps"), std::string::npos);
+  s = {};
+  s.gravity.y = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("gravity"), std::string::npos);
+}
+
+TEST(Validation, EntityDefinitionsNameTheBadField) {
+  FxScene scene;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  auto expect_field = [&](FxEntityDef def, const char* field) {
+    const std::string message = error_of([&] { scene.create_entity(def); });
+    EXPECT_NE(message.find(field), std::string::npos) << "message: '" << message << "'";
+  };
+  FxEntityDef def;
+  def.position.x = nan;
+  expect_field(def, "position");
+  def = {};
+  def.linear_velocity.y = inf;
+  expect_field(def, "linear_velocity");
+  def = {};
+  def.angle = nan;
+  expect_field(def, "angle");
+  def = {};
+  def.material.density = 0.0f;
+  expect_field(def, "density");
+  def = {};
+  def.material.static_friction = -0.1f;
+  expect_field(def, "static_friction");
+  def = {};
+  def.material.dynamic_friction = -0.1f;
+  expect_field(def, "dynamic_friction");
+  def = {};
+  def.material.restitution = 1.5f;
+  expect_field(def, "restitution");
+  def = {};
+  def.linear_damping = -1.0f;
+  expect_field(def, "linear_damping");
+  EXPECT_EQ(scene.entity_count(), 0u);  // nothing half-created
+  def = {};
+  def.type = FxBodyType::static_body;
+  def.material.density = 0.0f;  // a static body needs no density
+  EXPECT_NO_THROW(scene.create_entity(def));
+}
+
+TEST(Robustness, StepNeverProducesNaNFromExtremeButValidInput) {
+  FxScene scene;
+  add_ground(scene);
+  FxEntityDef thin;
+  thin.shape = FxShape::box(2.0f, 0.001f);
+  thin.position = {0.0f, 1.0f};
+  thin.linear_velocity = {0.0f, -1000.0f};  // clamped to max_linear_speed
+  auto sliver = scene.create_entity(thin);
+  auto tiny = add_circle(scene, {0.0f, 0.5f}, 0.001f);
+  auto dense = add_box(scene, {0.2f, 3.0f}, 0.5f, FxMaterial{1.0e6f});
+  std::vector<std::shared_ptr<FxEntity>> heap;
+  for (int i = 0; i < 50; ++i) heap.push_back(add_box(scene, {5.0f, 2.0f}, 0.5f));  // all in one spot
+  run(scene, 2.0f);
+  for (const auto& e : {sliver, tiny, dense}) {
+    EXPECT_TRUE(is_finite(e->position()));
+    EXPECT_TRUE(is_finite(e->linear_velocity()));
+  }
+  for (const auto& e : heap) EXPECT_TRUE(is_finite(e->position()));
+}
+
+// Exact bit patterns of every pose, so "equal" means bit-identical.
+std::vector<std::uint32_t> pose_bits(const FxScene& scene) {
+  std::vector<std::uint32_t> bits;
+  for (std::uint32_t i = 0; i < scene.entity_count(); ++i) {
+    const auto& e = scene.entity(i);
+    for (float v : {e->position().x, e->position().y, e->rotation().c, e->rotation().s, e->linear_velocity().x,
+                    e->linear_velocity().y, e->angular_velocity()}) {
+      std::uint32_t b;
+      std::memcpy(&b, &v, sizeof b);
+      bits.push_back(b);
+    }
+  }
+  return bits;
+}
+
+std::vector<std::uint32_t> run_tumbling_scene() {
+  FxScene scene;
+  add_ground(scene);
+  for (int i = 0; i < 60; ++i) {
+    const float x = static_cast<float>(i % 6) * 1.1f - 3.0f;
+    const float y = 1.0f + 1.2f * static_cast<float>(i / 6);
+    if (i % 2 == 0) {
+      add_box(scene, {x, y}, 0.5f, {}, 0.1f * static_cast<float>(i % 5));
+    } else {
+      add_circle(scene, {x, y}, 0.45f);
+    }
+  }
+  run(scene, 3.0f);
+  return pose_bits(scene);
+}
+
+TEST(Determinism, TwoRunsInOneProcessAgreeToTheBit) {
+  EXPECT_EQ(run_tumbling_scene(), run_tumbling_scene());
+}
+
+}  // namespace
+}  // namespace fx2d
