@@ -255,6 +255,8 @@ void World::finalize_bodies() {
 
 namespace fx2d {
 
+std::string_view fx_version() { return FX2D_VERSION_STRING; }
+
 bool fx_profiling_enabled() {
 #if FX2D_PROFILE
   return true;

@@ -8,3 +8,4 @@
 #include "fx2d/Profile.h"
 #include "fx2d/Scene.h"
 #include "fx2d/Shape.h"
+#include "fx2d/Version.h"
