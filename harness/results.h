@@ -19,6 +19,9 @@ struct AccuracySample {
   double kinetic_energy = 0;       // joules, translational + rotational, dynamic bodies
   int escaped = 0;                 // dynamic bodies outside the scene bounds
   int nan = 0;                     // bodies with a non-finite pose or velocity
+
+  // Field by field, exact: what a round trip through a result file must preserve.
+  friend bool operator==(const AccuracySample&, const AccuracySample&) = default;
 };
 
 // One engine on one scene: `repeats` timed repeats of `steps` steps each.
@@ -48,6 +51,8 @@ struct RunRecord {
   int hash_every = 0;
   std::string final_state_hash;
   bool deterministic = true;       // every repeat ended with the same final state hash
+
+  friend bool operator==(const RunRecord&, const RunRecord&) = default;
 };
 
 // Where and how the numbers were taken.
@@ -65,6 +70,8 @@ struct Provenance {
   std::string command_line;
   std::string counter_kind = "tsc-reference-cycles";
   double tsc_ghz = 0;              // measured reference-cycle rate
+
+  friend bool operator==(const Provenance&, const Provenance&) = default;
 };
 
 struct SceneRecord {
@@ -73,12 +80,16 @@ struct SceneRecord {
   std::string resolved_json;
   std::string source_path;
   std::string primary_metric;      // "penetration" or "displacement"
+
+  friend bool operator==(const SceneRecord&, const SceneRecord&) = default;
 };
 
 struct ResultSet {
   Provenance provenance;
   std::vector<SceneRecord> scenes;
   std::vector<RunRecord> runs;
+
+  friend bool operator==(const ResultSet&, const ResultSet&) = default;
 };
 
 }  // namespace fxbench

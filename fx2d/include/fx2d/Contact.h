@@ -8,7 +8,7 @@
 namespace fx2d {
 
 struct FxContactPoint {
-  FxVec2f point;               // world metres, midway between the surfaces at the step's start
+  FxVec2f point;               // world metres, midway between the surfaces as the last narrow phase found them
   float separation = 0.0f;     // metres, negative when overlapping (speculative points are positive)
   float normal_impulse = 0.0f;   // N s applied along the normal in the last substep
   float tangent_impulse = 0.0f;  // N s applied along the tangent in the last substep
