@@ -11,6 +11,8 @@
 // first of equal costs, so the same operations build the same tree.
 #include "aabb_tree.h"
 
+#include <bit>
+
 #include <algorithm>
 #include <cassert>
 
@@ -31,6 +33,15 @@ void AabbTree::free_node(int id) {
   nodes_[id].parent_or_next = free_list_;
   nodes_[id].height = -1;
   free_list_ = id;
+}
+
+void AabbTree::reserve(int proxies) {
+  nodes_.reserve(static_cast<std::size_t>(2 * proxies));
+  // A balanced tree of n leaves is about log2(n) deep; the stacks hold at most two entries per
+  // level, and rotations keep the height within a small factor of that.
+  const auto depth = static_cast<std::size_t>(8 + 4 * std::bit_width(static_cast<unsigned>(proxies)));
+  stack_.reserve(2 * depth);
+  search_stack_.reserve(2 * depth);
 }
 
 int AabbTree::create_proxy(const FxAABB& fat_box, std::uint32_t user_data) {

@@ -19,6 +19,9 @@ class AabbTree {
  public:
   static constexpr int null_node = -1;
 
+  // Grows storage for this many proxies (and the query stacks for the tree they make), so that
+  // later operations up to that size do not allocate.
+  void reserve(int proxies);
   // Adds a leaf holding `fat_box` and returns its proxy id (a node index, stable until destroyed).
   int create_proxy(const FxAABB& fat_box, std::uint32_t user_data);
   void destroy_proxy(int proxy);

@@ -43,6 +43,7 @@ void validate(const FxEntityDef& def) {
 
 std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
   validate(def);
+  reserve_scratch();
   const auto index = static_cast<std::uint32_t>(records.size());
   std::shared_ptr<FxEntity> handle(new FxEntity(this, index));
 
@@ -82,6 +83,26 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
   body_of_proxy[record.proxy] = index;
   record.moved = true;
   return handle;
+}
+
+// Per-step scratch grows with the body count here, at creation, not inside a step as a scene's
+// contacts build up. Four pair records per body (reserved for twice the bodies present, so the
+// growth is geometric) covers piles and heaps, which settle at about three.
+void World::reserve_scratch() {
+  if (records.size() < reserved_bodies) return;
+  reserved_bodies = std::max<std::size_t>(64, 2 * records.size());
+  const std::size_t n = reserved_bodies;
+  records.reserve(n);
+  sims.reserve(n);
+  states.reserve(n);
+  body_of_proxy.reserve(2 * n);
+  moved_bodies.reserve(n);
+  awake_bodies.reserve(n);
+  island_parent.reserve(n);
+  island_min_sleep_time.reserve(n);
+  contacts.slots.reserve(4 * n);
+  solver.constraints.reserve(4 * n);
+  tree.reserve(static_cast<int>(n));
 }
 
 std::uint32_t World::index_of(const FxEntity& entity) const {

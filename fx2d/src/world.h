@@ -72,6 +72,7 @@ class World final {
   void remove_entity(std::uint32_t index);
   void wake_body(std::uint32_t index);
   void refresh_aabb(std::uint32_t index);
+  void reserve_scratch();
   std::uint32_t index_of(const FxEntity& entity) const;
 
   // Constraints.
@@ -121,7 +122,7 @@ class World final {
   std::vector<std::uint32_t> awake_bodies;
   std::vector<int> island_parent;
   std::vector<float> island_min_sleep_time;
-  std::vector<std::uint32_t> index_remap;
+  std::size_t reserved_bodies = 0;
 };
 
 // A proxy's fat box: the tight box enlarged by a margin and swept by one step's displacement.

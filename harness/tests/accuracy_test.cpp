@@ -18,19 +18,8 @@
 #include <numbers>
 #include <stdexcept>
 
-namespace {
-std::atomic<long> heap_allocations{0};
-}  // namespace
+#include "counting_allocator.h"
 
-// Counts every allocation of this test program, to prove measure() makes none. Kept out of line
-// so that GCC does not inline the pair into callers and mistake free() for a mismatched delete.
-[[gnu::noinline]] void* operator new(std::size_t size) {
-  ++heap_allocations;
-  if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;
-  throw std::bad_alloc();
-}
-[[gnu::noinline]] void operator delete(void* memory) noexcept { std::free(memory); }
-[[gnu::noinline]] void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
 
 namespace fxbench {
 namespace {
@@ -251,13 +240,13 @@ TEST(Motion, EscapedAndNonFiniteBodiesAreCountedAndKeptOutOfOtherFigures) {
 TEST(Probe, MeasureAllocatesNothing) {
   const SceneSpec scene = grid_with_one_overlap(20, 20, 7);
   const std::vector<BodyState> states = poses_of(scene);
-  const long before_construction = heap_allocations.load();
+  const long before_construction = test::heap_allocations.load();
   AccuracyProbe probe(scene, states);
-  EXPECT_GT(heap_allocations.load(), before_construction);  // the counter does see the probe's scratch
-  const long before = heap_allocations.load();
+  EXPECT_GT(test::heap_allocations.load(), before_construction);  // the counter does see the probe's scratch
+  const long before = test::heap_allocations.load();
   double depth = 0.0;
   for (int step = 1; step <= 3; ++step) depth += probe.measure(step, states).max_penetration;
-  EXPECT_EQ(heap_allocations.load() - before, 0);
+  EXPECT_EQ(test::heap_allocations.load() - before, 0);
   EXPECT_NEAR(depth, 0.75, tolerance);
 }
 
