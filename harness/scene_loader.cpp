@@ -1004,6 +1004,11 @@ Json parse_document(const std::string& text, const std::string& origin) {
     const TextPosition position = position_at(text, error.byte == 0 ? 0 : error.byte - 1);
     throw InputError(origin + ":" + std::to_string(position.line) + ":" + std::to_string(position.column) +
                      ": " + readable_syntax_error(error));
+  } catch (const Json::out_of_range& error) {
+    // A number literal beyond double range ("1e400"); nlohmann gives no position for it.
+    std::string reason = error.what();
+    if (const std::size_t column = reason.find("] "); column != std::string::npos) reason = reason.substr(column + 2);
+    throw InputError(origin + ": " + reason + "; expected numbers within double range");
   }
 }
 

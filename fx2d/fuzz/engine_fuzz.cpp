@@ -138,23 +138,25 @@ fx2d::FxSceneSettings decode_settings_change(ByteStream& in, fx2d::FxSceneSettin
   return s;
 }
 
-[[noreturn]] void report(std::uint64_t step, std::uint32_t entity, const char* field) {
-  std::fprintf(stderr, "engine_fuzz: entity %u has a non-finite %s after step %llu\n", entity, field,
-               static_cast<unsigned long long>(step));
+[[noreturn]] void report(const fx2d::FxScene& scene, std::uint32_t entity, const char* field,
+                         const char* call) {
+  std::fprintf(stderr, "engine_fuzz: entity %u has a non-finite %s after %s (%llu steps taken)\n", entity,
+               field, call, static_cast<unsigned long long>(scene.step_index()));
   std::abort();
 }
 
-void check_finite_state(const fx2d::FxScene& scene) {
+// Checked after every call, not only after steps, so a report names the call that broke the state.
+void check_finite_state(const fx2d::FxScene& scene, const char* call) {
   if (scene.contact_count() < 0) {
-    std::fprintf(stderr, "engine_fuzz: contact_count() is %d\n", scene.contact_count());
+    std::fprintf(stderr, "engine_fuzz: contact_count() is %d after %s\n", scene.contact_count(), call);
     std::abort();
   }
   for (std::uint32_t i = 0; i < scene.entity_count(); ++i) {
     const fx2d::FxEntity& entity = *scene.entity(i);
-    if (!fx2d::is_finite(entity.position())) report(scene.step_index(), i, "position");
-    if (!std::isfinite(entity.angle())) report(scene.step_index(), i, "angle");
-    if (!fx2d::is_finite(entity.linear_velocity())) report(scene.step_index(), i, "linear velocity");
-    if (!std::isfinite(entity.angular_velocity())) report(scene.step_index(), i, "angular velocity");
+    if (!fx2d::is_finite(entity.position())) report(scene, i, "position", call);
+    if (!std::isfinite(entity.angle())) report(scene, i, "angle", call);
+    if (!fx2d::is_finite(entity.linear_velocity())) report(scene, i, "linear velocity", call);
+    if (!std::isfinite(entity.angular_velocity())) report(scene, i, "angular velocity", call);
   }
 }
 
@@ -167,7 +169,8 @@ struct CallbackPlan {
 
 void run_callback_plan(fx2d::FxScene& scene, CallbackPlan& plan) {
   if (plan.remove_selector && scene.entity_count() > 0) {
-    scene.remove_entity(*scene.entity(static_cast<std::uint32_t>(*plan.remove_selector % scene.entity_count())));
+    const auto index = static_cast<std::uint32_t>(*plan.remove_selector % scene.entity_count());
+    scene.remove_entity(*scene.entity(index));
   }
   if (plan.create_circle && scene.entity_count() < kMaxEntities) {
     fx2d::FxEntityDef def;
@@ -183,22 +186,25 @@ class Session {
     scene_.set_step_callback([this](fx2d::FxScene& scene) { run_callback_plan(scene, plan_); });
   }
 
-  void apply(ByteStream& in) {
+  // Decodes and makes one call; returns its name for reports.
+  const char* apply(ByteStream& in) {
     switch (in.byte() % 12) {
-      case 0: create(in); break;
-      case 1: with_entity(in, [&](const fx2d::FxEntity& e) { scene_.remove_entity(e); }); break;
-      case 2: with_entity(in, [&](fx2d::FxEntity& e) { e.set_linear_velocity(in.vec2()); e.set_angular_velocity(in.value()); }); break;
-      case 3: with_entity(in, [&](fx2d::FxEntity& e) { const FxVec2f impulse = in.vec2(); e.apply_linear_impulse(impulse, in.vec2()); }); break;
-      case 4: with_entity(in, [&](fx2d::FxEntity& e) { e.apply_force(in.vec2()); }); break;
-      case 5: with_entity(in, [&](fx2d::FxEntity& e) { const FxVec2f p = in.vec2(); e.set_transform(p, in.value()); }); break;
-      case 6: join(in, /*distance=*/true); break;
-      case 7: join(in, /*distance=*/false); break;
-      case 8: unjoin(in); break;
-      case 9: scene_.set_settings(decode_settings_change(in, scene_.settings())); break;
-      case 10: arm_callback(in); break;
-      default: step(in); break;
+      case 0: create(in); return "create_entity";
+      case 1: with_entity(in, [&](fx2d::FxEntity& e) { remove(e); }); return "remove_entity";
+      case 2: with_entity(in, [&](fx2d::FxEntity& e) { set_velocity(in, e); }); return "set_*_velocity";
+      case 3: with_entity(in, [&](fx2d::FxEntity& e) { push(in, e); }); return "apply_linear_impulse";
+      case 4: with_entity(in, [&](fx2d::FxEntity& e) { e.apply_force(in.vec2()); }); return "apply_force";
+      case 5: with_entity(in, [&](fx2d::FxEntity& e) { set_transform(in, e); }); return "set_transform";
+      case 6: join(in, /*distance=*/true); return "add_constraint(FxDistanceJoint)";
+      case 7: join(in, /*distance=*/false); return "add_constraint(FxRevoluteJoint)";
+      case 8: unjoin(in); return "remove_constraint";
+      case 9: scene_.set_settings(decode_settings_change(in, scene_.settings())); return "set_settings";
+      case 10: arm_callback(in); return "arming the step callback";
+      default: step(in); return "step";
     }
   }
+
+  const fx2d::FxScene& scene() const { return scene_; }
 
   bool out_of_steps() const { return steps_ >= kMaxSteps; }
 
@@ -208,6 +214,20 @@ class Session {
     const std::uint8_t selector = in.byte();
     if (scene_.entity_count() == 0) return;
     action(*scene_.entity(static_cast<std::uint32_t>(selector % scene_.entity_count())));
+  }
+
+  void remove(const fx2d::FxEntity& entity) { scene_.remove_entity(entity); }
+  static void set_velocity(ByteStream& in, fx2d::FxEntity& entity) {
+    entity.set_linear_velocity(in.vec2());
+    entity.set_angular_velocity(in.value());
+  }
+  static void push(ByteStream& in, fx2d::FxEntity& entity) {
+    const FxVec2f impulse = in.vec2();
+    entity.apply_linear_impulse(impulse, in.vec2());
+  }
+  static void set_transform(ByteStream& in, fx2d::FxEntity& entity) {
+    const FxVec2f position = in.vec2();
+    entity.set_transform(position, in.value());
   }
 
   void create(ByteStream& in) {
@@ -253,7 +273,7 @@ class Session {
     const int count = 1 + in.byte() % kMaxStepsPerCall;
     for (int i = 0; i < count && !out_of_steps(); ++i, ++steps_) {
       scene_.step();
-      check_finite_state(scene_);
+      check_finite_state(scene_, "step");
     }
   }
 
@@ -270,7 +290,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Session session;
   while (!in.empty() && !session.out_of_steps()) {
     try {
-      session.apply(in);
+      check_finite_state(session.scene(), session.apply(in));
     } catch (const fx2d::FxInvalidArgument&) {
       // The engine refused an invalid call: the expected outcome. Decoding goes on from there.
     }

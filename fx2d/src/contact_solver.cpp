@@ -92,63 +92,6 @@ void ContactSolver::prepare(const World& world) {
   }
 }
 
-void ContactSolver::warm_start(std::span<FxBodyState> states) const {
-  for (const ContactConstraint& c : constraints) {
-    FxBodyState& a = states[c.body_a];
-    FxBodyState& b = states[c.body_b];
-    const FxVec2f tangent = right_perp(c.normal);
-    for (int i = 0; i < c.point_count; ++i) {
-      const ContactPointConstraint& p = c.points[i];
-      apply_impulse(a, b, c, p, p.normal_impulse * c.normal + p.tangent_impulse * tangent);
-    }
-  }
-}
-
-// Invariant: no two bodies of one constraint alias (body_a != body_b), and static bodies have
-// zero inverse mass, so writing their state back leaves it unchanged.
-void ContactSolver::solve(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias) {
-  for (ContactConstraint& c : constraints) {
-    FxBodyState& a = states[c.body_a];
-    FxBodyState& b = states[c.body_b];
-    const FxVec2f tangent = right_perp(c.normal);
-
-    // Normal rows: speculative points (separated) stop the approach exactly at contact; overlaps
-    // are pushed apart softly and no faster than max_push_speed.
-    for (int i = 0; i < c.point_count; ++i) {
-      ContactPointConstraint& p = c.points[i];
-      const float separation = current_separation(a, b, c.normal, p);
-      float bias = 0.0f;
-      float mass_scale = 1.0f;
-      float impulse_scale = 0.0f;
-      if (separation > 0.0f) {
-        bias = separation * params.inv_substep_dt;
-      } else if (use_bias) {
-        bias = std::max(params.softness.bias_rate * separation, -params.max_push_speed);
-        mass_scale = params.softness.mass_scale;
-        impulse_scale = params.softness.impulse_scale;
-      }
-      const float vn = dot(point_velocity(b, p.anchor_b) - point_velocity(a, p.anchor_a), c.normal);
-      const float delta = -p.normal_mass * mass_scale * (vn + bias) - impulse_scale * p.normal_impulse;
-      const float accumulated = std::max(p.normal_impulse + delta, 0.0f);
-      const float applied = accumulated - p.normal_impulse;
-      p.normal_impulse = accumulated;
-      p.max_normal_impulse = std::max(p.max_normal_impulse, applied);
-      apply_impulse(a, b, c, p, applied * c.normal);
-    }
-
-    // Friction rows, bounded by the cone of each point's current normal impulse.
-    for (int i = 0; i < c.point_count; ++i) {
-      ContactPointConstraint& p = c.points[i];
-      const float vt = dot(point_velocity(b, p.anchor_b) - point_velocity(a, p.anchor_a), tangent);
-      const float limit = c.friction * p.normal_impulse;
-      const float accumulated = std::clamp(p.tangent_impulse - p.tangent_mass * vt, -limit, limit);
-      const float applied = accumulated - p.tangent_impulse;
-      p.tangent_impulse = accumulated;
-      apply_impulse(a, b, c, p, applied * tangent);
-    }
-  }
-}
-
 void ContactSolver::apply_restitution(std::span<FxBodyState> states, float threshold) {
   for (ContactConstraint& c : constraints) {
     if (c.restitution == 0.0f) continue;

@@ -52,11 +52,8 @@ struct ContactSolveParams {
 
 class ContactSolver {
  public:
-  // Builds one constraint per touching contact that has an awake body.
+  // Builds one constraint per touching contact that has an awake body, in contact cache order.
   void prepare(const World& world);
-  void warm_start(std::span<FxBodyState> states) const;
-  // One velocity pass. With use_bias, overlaps are pushed apart (softly); without, it relaxes.
-  void solve(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias);
   // After the substeps: bounce where an approaching point pushed and restitution is > 0.
   void apply_restitution(std::span<FxBodyState> states, float threshold);
   // Non-linear Gauss-Seidel projection of overlaps deeper than the slop, on positions only.

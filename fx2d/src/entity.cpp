@@ -22,11 +22,15 @@ void require(bool condition, const char* field, const char* expected) {
   if (!condition) throw FxInvalidArgument(std::string("FxEntityDef: ") + field + ": expected " + expected);
 }
 
-void validate(const FxEntityDef& def) {
-  require(is_finite(def.position), "position", "finite coordinates");
+void validate(const FxEntityDef& def, const FxSceneSettings& settings) {
+  const bool bounded = is_finite(def.position) && std::fabs(def.position.x) <= max_coordinate &&
+                       std::fabs(def.position.y) <= max_coordinate;
+  require(bounded, "position", "finite coordinates within +-1e7 m");
   require(std::isfinite(def.angle), "angle", "a finite number");
-  require(is_finite(def.linear_velocity), "linear_velocity", "finite components");
-  require(std::isfinite(def.angular_velocity), "angular_velocity", "a finite number");
+  require(is_finite(def.linear_velocity) && length(def.linear_velocity) <= settings.max_linear_speed, "linear_velocity",
+          "finite components, speed <= FxSceneSettings::max_linear_speed");
+  require(std::isfinite(def.angular_velocity) && std::fabs(def.angular_velocity) <= max_angular_speed(settings),
+          "angular_velocity", "a finite number, |w| <= a quarter turn per substep");
   require(std::isfinite(def.linear_damping) && def.linear_damping >= 0.0f, "linear_damping", "a finite number >= 0");
   require(std::isfinite(def.angular_damping) && def.angular_damping >= 0.0f, "angular_damping", "a finite number >= 0");
   const FxMaterial& m = def.material;
@@ -41,8 +45,19 @@ void validate(const FxEntityDef& def) {
 
 }  // namespace
 
+// Mass properties of a dynamic body; checked before anything is stored, so a rejected definition
+// leaves no trace.
+FxMassData checked_mass(const FxEntityDef& def) {
+  const FxMassData mass = def.shape.mass_data(def.material.density);
+  // A density can be positive yet give a mass whose inverse overflows (1e-40) or is infinite.
+  require(std::isnormal(mass.mass) && std::isfinite(1.0f / mass.mass) && std::isfinite(mass.rotational_inertia),
+          "material.density", "a density that gives a finite, normal mass and inertia");
+  return mass;
+}
+
 std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
-  validate(def);
+  validate(def, settings);
+  const FxMassData mass = def.type == FxBodyType::dynamic ? checked_mass(def) : FxMassData{0.0f, def.shape.centroid(), 0.0f};
   reserve_scratch();
   const auto index = static_cast<std::uint32_t>(records.size());
   std::shared_ptr<FxEntity> handle(new FxEntity(this, index));
@@ -60,15 +75,12 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
   BodySim& sim = sims.emplace_back();
   sim.origin = def.position;
   sim.rotation = FxRot::from_angle(def.angle);
+  sim.local_center = mass.center;
+  record.mass = mass.mass;
+  record.rotational_inertia = mass.rotational_inertia;
   if (def.type == FxBodyType::dynamic) {
-    const FxMassData mass = def.shape.mass_data(def.material.density);
-    record.mass = mass.mass;
-    record.rotational_inertia = mass.rotational_inertia;
-    sim.local_center = mass.center;
     sim.inv_mass = 1.0f / mass.mass;
     sim.inv_inertia = mass.rotational_inertia > 0.0f ? 1.0f / mass.rotational_inertia : 0.0f;
-  } else {
-    sim.local_center = def.shape.centroid();
   }
   if (def.type != FxBodyType::static_body) {
     // The definition gives the origin's velocity; the solver works with the centre of mass's.
@@ -76,7 +88,6 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
     sim.linear_velocity = def.linear_velocity + cross(def.angular_velocity, rotate(sim.rotation, sim.local_center));
   }
   def.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
-  states.emplace_back();
 
   record.proxy = tree.create_proxy(fat_box_for(sim.aabb, {}), 0);
   if (body_of_proxy.size() <= static_cast<std::size_t>(record.proxy)) body_of_proxy.resize(record.proxy + 1);
@@ -94,7 +105,8 @@ void World::reserve_scratch() {
   const std::size_t n = reserved_bodies;
   records.reserve(n);
   sims.reserve(n);
-  states.reserve(n);
+  states.reserve(n + 1);
+  movable.reserve(n + 1);
   body_of_proxy.reserve(2 * n);
   moved_bodies.reserve(n);
   awake_bodies.reserve(n);
@@ -102,6 +114,8 @@ void World::reserve_scratch() {
   island_min_sleep_time.reserve(n);
   contacts.slots.reserve(4 * n);
   solver.constraints.reserve(4 * n);
+  contact_graph.reserve(4 * n, n + 1);
+  contact_batches.reserve(4 * n);
   tree.reserve(static_cast<int>(n));
 }
 
@@ -139,7 +153,6 @@ void World::remove_entity(std::uint32_t index) {
 
   records.erase(records.begin() + index);
   sims.erase(sims.begin() + index);
-  states.erase(states.begin() + index);
   auto shifted = [index](std::uint32_t i) { return i > index ? i - 1 : i; };
   for (std::uint32_t i = index; i < records.size(); ++i) {
     records[i].handle->packed_index_ = i;
@@ -225,8 +238,9 @@ FxAABB FxEntity::aabb() const { return sim().aabb; }
 bool FxEntity::is_awake() const { return record().awake; }
 
 void FxEntity::set_transform(FxVec2f position, float angle) {
-  if (!is_finite(position) || !std::isfinite(angle)) {
-    throw FxInvalidArgument("FxEntity::set_transform: position, angle: expected finite values");
+  if (!is_finite(position) || std::fabs(position.x) > detail::max_coordinate ||
+      std::fabs(position.y) > detail::max_coordinate || !std::isfinite(angle)) {
+    throw FxInvalidArgument("FxEntity::set_transform: position, angle: expected finite values within +-1e7 m");
   }
   detail::BodySim& body = live_sim("set_transform");
   body.origin = position;
@@ -239,14 +253,18 @@ void FxEntity::set_transform(FxVec2f position, float angle) {
 void FxEntity::set_linear_velocity(FxVec2f velocity) {
   if (!is_finite(velocity)) throw FxInvalidArgument("FxEntity::set_linear_velocity: velocity: expected finite components");
   if (type() == FxBodyType::static_body) return;
-  live_sim("set_linear_velocity").linear_velocity = velocity;
+  detail::BodySim& body = live_sim("set_linear_velocity");
+  body.linear_velocity = velocity;
+  detail::clamp_velocity(world_->settings, body);
   wake();
 }
 
 void FxEntity::set_angular_velocity(float velocity) {
   if (!std::isfinite(velocity)) throw FxInvalidArgument("FxEntity::set_angular_velocity: velocity: expected a finite number");
   if (type() == FxBodyType::static_body) return;
-  live_sim("set_angular_velocity").angular_velocity = velocity;
+  detail::BodySim& body = live_sim("set_angular_velocity");
+  body.angular_velocity = velocity;
+  detail::clamp_velocity(world_->settings, body);
   wake();
 }
 
@@ -258,6 +276,7 @@ void FxEntity::apply_linear_impulse(FxVec2f impulse, FxVec2f world_point) {
   if (type() != FxBodyType::dynamic) return;
   body.linear_velocity += body.inv_mass * impulse;
   body.angular_velocity += body.inv_inertia * cross(world_point - world_center(), impulse);
+  detail::clamp_velocity(world_->settings, body);
   wake();
 }
 

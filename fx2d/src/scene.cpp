@@ -2,7 +2,8 @@
 //
 //   broad phase      update_broad_phase()   proxies, new pairs          (once per step)
 //   narrow phase     update_contacts()      manifolds, contact cache    (once per step)
-//   velocity passes  prepare_solver()       gather body state, build contact constraints
+//   velocity passes  prepare_solver()       gather body state, build contact constraints, colour
+//                                           them and pack them into batches
 //                    solve_substeps()       per substep: integrate velocities, warm start,
 //                                           velocity passes, integrate positions, relaxation passes;
 //                                           then restitution
@@ -70,6 +71,19 @@ void validate_settings(const FxSceneSettings& s) {
 
 World::World(const FxSceneSettings& s) : settings(s) { validate_settings(settings); }
 
+void clamp_velocity(const FxSceneSettings& settings, BodySim& sim) {
+  const float max_speed = settings.max_linear_speed;
+  const float speed_squared = length_squared(sim.linear_velocity);
+  if (speed_squared > max_speed * max_speed) {
+    // Scale by the largest component first, so that a velocity whose square overflows keeps its direction.
+    const FxVec2f v = sim.linear_velocity;
+    const float largest = std::max(std::fabs(v.x), std::fabs(v.y));
+    sim.linear_velocity = max_speed * normalize((1.0f / largest) * v);
+  }
+  const float max_spin = max_angular_speed(settings);
+  sim.angular_velocity = std::clamp(sim.angular_velocity, -max_spin, max_spin);
+}
+
 FxVec2f World::center_offset(std::uint32_t a, std::uint32_t b) const {
   const BodySim& sa = sims[a];
   const BodySim& sb = sims[b];
@@ -136,8 +150,12 @@ void World::prepare_solver() {
   // Gather the hot state of every body; sleeping and static ones keep zero velocity and are
   // never written by a constraint (a touching constraint always has its bodies awake).
   awake_bodies.clear();
-  states.resize(records.size());
+  states.resize(records.size() + 1);
+  states.back() = FxBodyState{};
+  movable.resize(records.size() + 1);
+  movable.back() = 0;
   for (std::uint32_t i = 0; i < records.size(); ++i) {
+    movable[i] = records[i].type == FxBodyType::dynamic;
     const bool moves = records[i].awake && records[i].type != FxBodyType::static_body;
     FxBodyState& state = states[i];
     state = FxBodyState{};
@@ -147,6 +165,8 @@ void World::prepare_solver() {
     awake_bodies.push_back(i);
   }
   solver.prepare(*this);
+  contact_graph.build(solver.constraints, movable);
+  contact_batches.pack(solver.constraints, contact_graph, static_cast<std::uint32_t>(records.size()));
 }
 
 void World::solve_substeps() {
@@ -174,10 +194,11 @@ void World::solve_substeps() {
       for (const auto& constraint : constraints) constraint->evaluate(context, use_bias);
     }
     FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
-    solver.solve(states, params, use_bias);
+    contact_batches.resolve_velocities(states, params, use_bias, settings.force_scalar_solver);
   };
 
   const float max_speed = settings.max_linear_speed;
+  const float max_spin = max_angular_speed(settings);
   for (int substep = 0; substep < settings.substeps; ++substep) {
     {
       FX2D_TIME_STAGE(profile, FxStage::integration);
@@ -193,7 +214,8 @@ void World::solve_substeps() {
         const float speed_squared = length_squared(v);
         if (speed_squared > max_speed * max_speed) v *= max_speed / std::sqrt(speed_squared);
         state.linear_velocity = v;
-        state.angular_velocity *= 1.0f / (1.0f + h * record.angular_damping);
+        const float w = state.angular_velocity * (1.0f / (1.0f + h * record.angular_damping));
+        state.angular_velocity = std::clamp(w, -max_spin, max_spin);
       }
     }
     if (has_constraints) {
@@ -202,7 +224,7 @@ void World::solve_substeps() {
     }
     {
       FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
-      solver.warm_start(states);
+      contact_batches.warm_start(states, settings.force_scalar_solver);
     }
     for (int pass = 0; pass < settings.velocity_passes; ++pass) velocity_pass(true);
     {
@@ -216,6 +238,7 @@ void World::solve_substeps() {
     for (int pass = 0; pass < settings.relax_passes; ++pass) velocity_pass(false);
   }
   FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
+  contact_batches.unpack(solver.constraints);
   solver.apply_restitution(states, settings.restitution_threshold);
 }
 

@@ -37,13 +37,16 @@ std::string format_point(FxVec2f v) {
   throw FxInvalidArgument(std::string(factory) + ": " + field + ": " + problem);
 }
 
-void require_positive(const char* factory, const char* field, float value) {
-  if (!(std::isfinite(value) && value > 0.0f))
-    reject(factory, field, format_number(value) + " given, finite and > 0 expected");
+// Shapes are bounded so that every product the narrow phase and the mass integrals form stays
+// finite in float (a size of 1e19 already overflows an edge cross product).
+void require_size(const char* factory, const char* field, float value) {
+  if (!(std::isfinite(value) && value > 0.0f && value <= FxShape::max_extent))
+    reject(factory, field, format_number(value) + " given, finite, > 0 and <= " + format_number(FxShape::max_extent) + " expected");
 }
 
-void require_finite(const char* factory, const char* field, FxVec2f value) {
-  if (!is_finite(value)) reject(factory, field, format_point(value) + " given, finite coordinates expected");
+void require_bounded(const char* factory, const char* field, FxVec2f value) {
+  if (!(is_finite(value) && std::fabs(value.x) <= FxShape::max_extent && std::fabs(value.y) <= FxShape::max_extent))
+    reject(factory, field, format_point(value) + " given, finite coordinates within +-" + format_number(FxShape::max_extent) + " expected");
 }
 
 std::string vertex_field(int index) { return "vertices[" + std::to_string(index) + "]"; }
@@ -142,7 +145,7 @@ Outline validated_outline(const char* factory, std::span<const FxVec2f> input) {
     reject(factory, "vertices",
            std::to_string(count) + " given, at most " + std::to_string(FxShape::max_vertices) + " expected");
   }
-  for (int i = 0; i < count; ++i) require_finite(factory, vertex_field(i).c_str(), input[i]);
+  for (int i = 0; i < count; ++i) require_bounded(factory, vertex_field(i).c_str(), input[i]);
   require_distinct(factory, input);
   require_corners(factory, input);
 
@@ -165,8 +168,8 @@ Outline validated_outline(const char* factory, std::span<const FxVec2f> input) {
 }  // namespace
 
 FxShape FxShape::circle(float radius, FxVec2f center) {
-  require_positive("FxShape::circle", "radius", radius);
-  require_finite("FxShape::circle", "center", center);
+  require_size("FxShape::circle", "radius", radius);
+  require_bounded("FxShape::circle", "center", center);
   FxShape shape;
   shape.type_ = FxShapeType::circle;
   shape.radius_ = radius;
@@ -177,9 +180,9 @@ FxShape FxShape::circle(float radius, FxVec2f center) {
 
 FxShape FxShape::box(float half_width, float half_height, FxVec2f center, float angle) {
   constexpr const char* factory = "FxShape::box";
-  require_positive(factory, "half_width", half_width);
-  require_positive(factory, "half_height", half_height);
-  require_finite(factory, "center", center);
+  require_size(factory, "half_width", half_width);
+  require_size(factory, "half_height", half_height);
+  require_bounded(factory, "center", center);
   if (!std::isfinite(angle)) reject(factory, "angle", format_number(angle) + " given, finite expected");
   const FxTransform placement{center, FxRot::from_angle(angle)};
   const std::array<FxVec2f, 4> corners{transform_point(placement, {-half_width, -half_height}),
@@ -211,7 +214,9 @@ FxShape FxShape::polygon(std::span<const FxVec2f> input) {
 }
 
 FxMassData FxShape::mass_data(float density) const {
-  require_positive("FxShape::mass_data", "density", density);
+  if (!(std::isfinite(density) && density > 0.0f)) {
+    reject("FxShape::mass_data", "density", format_number(density) + " given, finite and > 0 expected");
+  }
   FxMassData data;
   if (type_ == FxShapeType::circle) {
     data.mass = density * std::numbers::pi_v<float> * radius_ * radius_;

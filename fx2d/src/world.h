@@ -3,8 +3,9 @@
 // Bodies are stored packed, in creation order, split by who reads them: BodyRecord is cold (what
 // the organiser needs: type, shape, material, proxy, contact list, sleep state), BodySim is warm
 // (pose and velocity between steps, what integration and the narrow phase read), and FxBodyState
-// is the hot 32-byte record the velocity passes touch, gathered once per step into `states`.
-// Invariant: every array is indexed by packed index and has entity_count() entries; removal
+// is the hot 32-byte record the velocity passes touch, gathered once per step into `states`
+// (which has one extra, always-zero slot that padding lanes of contact batches point at).
+// Invariant: every body array is indexed by packed index and has entity_count() entries; removal
 // compacts them all in one pass, preserving order, and remaps every stored index.
 //
 // The step is a fixed sequence of stage functions (scene.cpp); each is timed as one FxStage.
@@ -16,7 +17,9 @@
 #include <vector>
 
 #include "aabb_tree.h"
+#include "contact_batch.h"
 #include "contact_cache.h"
+#include "contact_graph.h"
 #include "contact_solver.h"
 #include "fx2d/Constraint.h"
 #include "fx2d/Entity.h"
@@ -110,6 +113,9 @@ class World final {
   std::vector<std::uint32_t> body_of_proxy;  // proxy id -> packed index
   ContactCache contacts;
   ContactSolver solver;
+  FxContactGraph contact_graph;
+  ContactBatches contact_batches;
+  std::vector<std::uint8_t> movable;  // per body (and the padding slot): can a contact change its state?
 
   std::function<void(FxScene&)> step_callback;
   FxScene* owner = nullptr;
@@ -124,6 +130,18 @@ class World final {
   std::vector<float> island_min_sleep_time;
   std::size_t reserved_bodies = 0;
 };
+
+// Positions beyond this (metres) are refused: float spacing there is already a metre.
+inline constexpr float max_coordinate = 1.0e7f;
+
+// A quarter turn per substep: faster spin cannot be represented by the rotation integration.
+inline float max_angular_speed(const FxSceneSettings& settings) {
+  return 0.25f * 3.14159265f * static_cast<float>(settings.substeps) / settings.dt;
+}
+
+// Clamps a body's velocity to the scene's linear and angular speed limits, so that no push,
+// however large, can turn a finite state into an infinite one.
+void clamp_velocity(const FxSceneSettings& settings, BodySim& sim);
 
 // A proxy's fat box: the tight box enlarged by a margin and swept by one step's displacement.
 FxAABB fat_box_for(const FxAABB& tight, FxVec2f displacement);

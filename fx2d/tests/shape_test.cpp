@@ -37,8 +37,8 @@ FxShape polygon_of(std::initializer_list<FxVec2f> points) {
 }
 
 TEST(ShapeValidation, CircleRejectsNonPositiveRadius) {
-  expect_error([] { FxShape::circle(0.0f); }, "FxShape::circle: radius: 0 given", "> 0 expected");
-  expect_error([] { FxShape::circle(-1.0f); }, "FxShape::circle: radius: -1 given", "> 0 expected");
+  expect_error([] { FxShape::circle(0.0f); }, "FxShape::circle: radius: 0 given", "> 0 and <= 1e+06 expected");
+  expect_error([] { FxShape::circle(-1.0f); }, "FxShape::circle: radius: -1 given", "> 0 and <= 1e+06 expected");
 }
 
 TEST(ShapeValidation, CircleRejectsNonFiniteRadius) {
@@ -51,15 +51,21 @@ TEST(ShapeValidation, CircleRejectsNonFiniteCenter) {
       [] {
         FxShape::circle(1.0f, {nan, 0.0f});
       },
-      "FxShape::circle: center:", "finite coordinates expected");
+      "FxShape::circle: center:", "finite coordinates within +-1e+06 expected");
 }
 
 TEST(ShapeValidation, BoxRejectsNonPositiveHalfWidth) {
-  expect_error([] { FxShape::box(0.0f, 1.0f); }, "FxShape::box: half_width: 0 given", "> 0 expected");
+  expect_error([] { FxShape::box(0.0f, 1.0f); }, "FxShape::box: half_width: 0 given", "> 0 and <= 1e+06 expected");
+}
+
+TEST(ShapeValidation, ShapesBeyondMaxExtentAreRejected) {
+  // A box of 1e30 m would overflow its own edge cross products (found by the engine fuzzer).
+  expect_error([] { FxShape::box(1.0e30f, 1.0f); }, "FxShape::box: half_width: 1e+30 given", "<= 1e+06 expected");
+  expect_error([] { FxShape::circle(1.0f, {2.0e6f, 0.0f}); }, "FxShape::circle: center:", "within +-1e+06");
 }
 
 TEST(ShapeValidation, BoxRejectsNonPositiveHalfHeight) {
-  expect_error([] { FxShape::box(1.0f, -2.0f); }, "FxShape::box: half_height: -2 given", "> 0 expected");
+  expect_error([] { FxShape::box(1.0f, -2.0f); }, "FxShape::box: half_height: -2 given", "> 0 and <= 1e+06 expected");
 }
 
 TEST(ShapeValidation, BoxRejectsNonFiniteCenter) {
@@ -100,7 +106,7 @@ TEST(ShapeValidation, PolygonRejectsNonFiniteVertex) {
       [] {
         polygon_of({{0.0f, 0.0f}, {1.0f, nan}, {0.0f, 1.0f}});
       },
-      "FxShape::polygon: vertices[1]:", "finite coordinates expected");
+      "FxShape::polygon: vertices[1]:", "finite coordinates within +-1e+06 expected");
 }
 
 TEST(ShapeValidation, PolygonRejectsDuplicateVertex) {

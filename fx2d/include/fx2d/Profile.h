@@ -17,7 +17,7 @@ enum class FxStage : int {
   integration,      // velocity and position integration, pose finalisation
   broad_phase,      // bounding boxes, proxy tree updates, new pair search
   narrow_phase,     // contact manifolds and the contact cache
-  velocity_passes,  // contact preparation, warm starting, velocity passes, relaxation, restitution
+  velocity_passes,  // contact preparation, colouring, warm starting, velocity passes, relaxation, restitution
   position_solve,   // the final non-linear position projection
   constraints,      // user constraints (joints): preparation and their share of every pass
   bookkeeping,      // sleeping, impulse storage, the step callback

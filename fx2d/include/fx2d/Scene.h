@@ -43,6 +43,9 @@ struct FxSceneSettings {
   float max_push_speed = 3.0f;         // m/s: the fastest an overlap is pushed apart
   float linear_slop = 0.005f;          // metres of overlap the position projection tolerates
   float max_linear_speed = 400.0f;     // m/s: velocities are clamped, so no input can overflow
+  // Solve every contact batch lane by lane instead of as vectorised lanes. The results are
+  // bit-identical; this exists to prove it and to measure what the batching is worth.
+  bool force_scalar_solver = false;
 };
 
 class FxScene {

@@ -35,14 +35,17 @@ struct FxMassData {
 class FxShape {
  public:
   static constexpr int max_vertices = 8;
+  // Largest size and coordinate a shape may have (metres), so that every product formed from
+  // shapes stays finite in float.
+  static constexpr float max_extent = 1.0e6f;
 
-  // A circle of radius > 0 (metres) centred at `center` (body-local metres).
+  // A circle of radius in (0, max_extent] metres centred at `center` (body-local metres).
   static FxShape circle(float radius, FxVec2f center = {});
-  // A box with half-extents > 0 (metres), centred at `center` and rotated by `angle` (radians)
+  // A box with half-extents in (0, max_extent] metres, centred at `center` and rotated by `angle` (radians)
   // in the body frame.
   static FxShape box(float half_width, float half_height, FxVec2f center = {}, float angle = 0.0f);
   // A convex polygon from 3 to max_vertices points in either winding. Rejected: fewer than 3 or
-  // more than max_vertices points, non-finite coordinates, duplicate or collinear points,
+  // more than max_vertices points, coordinates beyond +-max_extent, duplicate or collinear points,
   // non-convex outlines, and an area below 1e-8 m^2.
   static FxShape polygon(std::span<const FxVec2f> vertices);
 

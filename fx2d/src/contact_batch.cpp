@@ -1,0 +1,258 @@
+#include "contact_batch.h"
+
+#include <algorithm>
+
+namespace fx2d::detail {
+namespace {
+
+// By value, not std::max's references, so a lane loop if-converts to selects instead of branching
+// between two loads. Same semantics as std::max/std::min (the first argument wins ties).
+[[gnu::always_inline]] inline float max_of(float a, float b) { return a < b ? b : a; }
+[[gnu::always_inline]] inline float min_of(float a, float b) { return b < a ? b : a; }
+
+[[gnu::always_inline]] inline void apply_lane_impulse(LaneBody& a, LaneBody& b, float ma, float ia, float mb, float ib, float rax, float ray,
+                        float rbx, float rby, float px, float py) {
+  a.vx -= ma * px;
+  a.vy -= ma * py;
+  a.w -= ia * (rax * py - ray * px);
+  b.vx += mb * px;
+  b.vy += mb * py;
+  b.w += ib * (rbx * py - rby * px);
+}
+
+// Relative velocity of the two anchors, along (dx, dy).
+[[gnu::always_inline]] inline float lane_relative_speed(const LaneBody& a, const LaneBody& b, float rax, float ray, float rbx, float rby, float dx,
+                          float dy) {
+  const float vx = (b.vx - b.w * rby) - (a.vx - a.w * ray);
+  const float vy = (b.vy + b.w * rbx) - (a.vy + a.w * rax);
+  return vx * dx + vy * dy;
+}
+
+template <int Points>
+[[gnu::always_inline]] inline void warm_start_lane(FxContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
+                                                   const ContactSolveParams&) {
+  const float nx = k.normal_x[lane], ny = k.normal_y[lane];
+  for (int i = 0; i < Points; ++i) {
+    const float n = k.normal_impulse[i][lane], t = k.tangent_impulse[i][lane];
+    // tangent = right_perp(normal) = (ny, -nx)
+    apply_lane_impulse(a, b, k.inv_mass_a[lane], k.inv_inertia_a[lane], k.inv_mass_b[lane], k.inv_inertia_b[lane],
+                       k.anchor_ax[i][lane], k.anchor_ay[i][lane], k.anchor_bx[i][lane], k.anchor_by[i][lane],
+                       n * nx + t * ny, n * ny - t * nx);
+  }
+}
+
+// One soft sequential-impulse pass over one contact: normal rows first (speculative points stop
+// the approach at the surface; overlaps are pushed apart softly, at most max_push_speed), then
+// friction bounded by each point's normal impulse. Branch-free so that lanes vectorise.
+template <int Points, bool UseBias>
+[[gnu::always_inline]] inline void solve_lane(FxContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
+                                              const ContactSolveParams& p) {
+  const float nx = k.normal_x[lane], ny = k.normal_y[lane];
+  const float ma = k.inv_mass_a[lane], ia = k.inv_inertia_a[lane];
+  const float mb = k.inv_mass_b[lane], ib = k.inv_inertia_b[lane];
+  const float dpx = b.dpx - a.dpx, dpy = b.dpy - a.dpy;
+  // Read unconditionally, so the selects below need no conditional loads.
+  const float bias_rate = p.softness.bias_rate, soft_mass_scale = p.softness.mass_scale;
+  const float soft_impulse_scale = p.softness.impulse_scale, max_push = p.max_push_speed, inv_h = p.inv_substep_dt;
+  for (int i = 0; i < Points; ++i) {
+    const float rax = k.anchor_ax[i][lane], ray = k.anchor_ay[i][lane];
+    const float rbx = k.anchor_bx[i][lane], rby = k.anchor_by[i][lane];
+    // Separation now, from how far each anchor moved and turned since the step began.
+    const float gap_x = dpx + ((b.qc * rbx - b.qs * rby) - (a.qc * rax - a.qs * ray));
+    const float gap_y = dpy + ((b.qs * rbx + b.qc * rby) - (a.qs * rax + a.qc * ray));
+    const float separation = gap_x * nx + gap_y * ny + k.adjusted_separation[i][lane];
+    const bool speculative = separation > 0.0f;
+    const bool soft = UseBias && !speculative;
+    const float push = max_of(bias_rate * separation, -max_push);
+    const float bias = speculative ? separation * inv_h : (soft ? push : 0.0f);
+    const float mass_scale = soft ? soft_mass_scale : 1.0f;
+    const float impulse_scale = soft ? soft_impulse_scale : 0.0f;
+
+    const float vn = lane_relative_speed(a, b, rax, ray, rbx, rby, nx, ny);
+    const float old_impulse = k.normal_impulse[i][lane];
+    const float delta = -k.normal_mass[i][lane] * mass_scale * (vn + bias) - impulse_scale * old_impulse;
+    const float accumulated = max_of(old_impulse + delta, 0.0f);
+    const float applied = accumulated - old_impulse;
+    k.normal_impulse[i][lane] = accumulated;
+    k.max_normal_impulse[i][lane] = max_of(k.max_normal_impulse[i][lane], applied);
+    apply_lane_impulse(a, b, ma, ia, mb, ib, rax, ray, rbx, rby, applied * nx, applied * ny);
+  }
+  const float friction = k.friction[lane];
+  for (int i = 0; i < Points; ++i) {
+    const float rax = k.anchor_ax[i][lane], ray = k.anchor_ay[i][lane];
+    const float rbx = k.anchor_bx[i][lane], rby = k.anchor_by[i][lane];
+    const float vt = lane_relative_speed(a, b, rax, ray, rbx, rby, ny, -nx);
+    const float limit = friction * k.normal_impulse[i][lane];
+    const float old_impulse = k.tangent_impulse[i][lane];
+    const float accumulated = min_of(max_of(old_impulse - k.tangent_mass[i][lane] * vt, -limit), limit);
+    const float applied = accumulated - old_impulse;
+    k.tangent_impulse[i][lane] = accumulated;
+    apply_lane_impulse(a, b, ma, ia, mb, ib, rax, ray, rbx, rby, applied * ny, -applied * nx);
+  }
+}
+
+LaneBody load(const FxBodyState& s) {
+  return {s.linear_velocity.x, s.linear_velocity.y, s.angular_velocity,
+          s.delta_position.x,  s.delta_position.y,  s.delta_rotation.c, s.delta_rotation.s};
+}
+
+void store(FxBodyState& s, const LaneBody& body) {
+  s.linear_velocity = {body.vx, body.vy};
+  s.angular_velocity = body.w;
+}
+
+// Lanes may share bodies: gather, solve and scatter one lane at a time, in lane order.
+template <LaneFn LaneSolve>
+void run_serial(FxContactBatch& k, FxBodyState* states, const ContactSolveParams& p) {
+  for (int lane = 0; lane < fx_lanes; ++lane) {
+    LaneBody a = load(states[k.body_a[lane]]);
+    LaneBody b = load(states[k.body_b[lane]]);
+    LaneSolve(k, lane, a, b, p);
+    store(states[k.body_a[lane]], a);
+    store(states[k.body_b[lane]], b);
+  }
+}
+
+// Invariant: no two lanes share a movable body (one colour). Gather every lane, solve them as one
+// vectorisable loop over local columns, scatter every lane.
+template <LaneFn LaneSolve>
+void run_batched(FxContactBatch& __restrict k, FxBodyState* __restrict states, const ContactSolveParams& p) {
+  // Columns of the lanes' body state, so that the solve loop reads and writes unit-stride arrays.
+  alignas(32) float avx[fx_lanes], avy[fx_lanes], aw[fx_lanes], adpx[fx_lanes], adpy[fx_lanes], aqc[fx_lanes],
+      aqs[fx_lanes];
+  alignas(32) float bvx[fx_lanes], bvy[fx_lanes], bw[fx_lanes], bdpx[fx_lanes], bdpy[fx_lanes], bqc[fx_lanes],
+      bqs[fx_lanes];
+  for (int lane = 0; lane < fx_lanes; ++lane) {
+    const LaneBody a = load(states[k.body_a[lane]]);
+    const LaneBody b = load(states[k.body_b[lane]]);
+    avx[lane] = a.vx, avy[lane] = a.vy, aw[lane] = a.w, adpx[lane] = a.dpx, adpy[lane] = a.dpy, aqc[lane] = a.qc,
+    aqs[lane] = a.qs;
+    bvx[lane] = b.vx, bvy[lane] = b.vy, bw[lane] = b.w, bdpx[lane] = b.dpx, bdpy[lane] = b.dpy, bqc[lane] = b.qc,
+    bqs[lane] = b.qs;
+  }
+  // check-vectorized(6): the lane loop below, in all six instantiations (warm start and
+  // solve with and without bias, one and two points), must be vectorised (ci/check-vectorized)
+  for (int lane = 0; lane < fx_lanes; ++lane) {
+    LaneBody a{avx[lane], avy[lane], aw[lane], adpx[lane], adpy[lane], aqc[lane], aqs[lane]};
+    LaneBody b{bvx[lane], bvy[lane], bw[lane], bdpx[lane], bdpy[lane], bqc[lane], bqs[lane]};
+    LaneSolve(k, lane, a, b, p);
+    avx[lane] = a.vx, avy[lane] = a.vy, aw[lane] = a.w;
+    bvx[lane] = b.vx, bvy[lane] = b.vy, bw[lane] = b.w;
+  }
+  for (int lane = 0; lane < fx_lanes; ++lane) {
+    store(states[k.body_a[lane]], {avx[lane], avy[lane], aw[lane], 0, 0, 0, 0});
+    store(states[k.body_b[lane]], {bvx[lane], bvy[lane], bw[lane], 0, 0, 0, 0});
+  }
+}
+
+}  // namespace
+
+void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, std::span<const int> members, bool serial,
+                              std::uint32_t padding_body) {
+  for (int points = 1; points <= 2; ++points) {
+    Run run{static_cast<int>(batches_.size()), 0, points, serial};
+    int lane = fx_lanes;
+    for (const int index : members) {
+      const ContactConstraint& c = constraints[index];
+      if (c.point_count != points) continue;
+      if (lane == fx_lanes) {
+        FxContactBatch& fresh = batches_.emplace_back();
+        fresh = FxContactBatch{};
+        std::fill(std::begin(fresh.body_a), std::end(fresh.body_a), padding_body);
+        std::fill(std::begin(fresh.body_b), std::end(fresh.body_b), padding_body);
+        std::fill(std::begin(fresh.constraint), std::end(fresh.constraint), -1);
+        ++run.count;
+        lane = 0;
+      }
+      FxContactBatch& k = batches_.back();
+      k.body_a[lane] = c.body_a;
+      k.body_b[lane] = c.body_b;
+      k.normal_x[lane] = c.normal.x;
+      k.normal_y[lane] = c.normal.y;
+      k.inv_mass_a[lane] = c.inv_mass_a;
+      k.inv_inertia_a[lane] = c.inv_inertia_a;
+      k.inv_mass_b[lane] = c.inv_mass_b;
+      k.inv_inertia_b[lane] = c.inv_inertia_b;
+      k.friction[lane] = c.friction;
+      k.constraint[lane] = index;
+      for (int i = 0; i < points; ++i) {
+        const ContactPointConstraint& cp = c.points[i];
+        k.anchor_ax[i][lane] = cp.anchor_a.x;
+        k.anchor_ay[i][lane] = cp.anchor_a.y;
+        k.anchor_bx[i][lane] = cp.anchor_b.x;
+        k.anchor_by[i][lane] = cp.anchor_b.y;
+        k.adjusted_separation[i][lane] = cp.adjusted_separation;
+        k.normal_mass[i][lane] = cp.normal_mass;
+        k.tangent_mass[i][lane] = cp.tangent_mass;
+        k.normal_impulse[i][lane] = cp.normal_impulse;
+        k.tangent_impulse[i][lane] = cp.tangent_impulse;
+        k.max_normal_impulse[i][lane] = 0.0f;
+      }
+      ++lane;
+    }
+    if (run.count > 0) runs_.push_back(run);
+  }
+}
+
+void ContactBatches::reserve(std::size_t constraints) {
+  // Full batches, plus one partly filled batch per run: two runs per colour and two for overflow.
+  batches_.reserve(constraints / fx_lanes + 2 * (FxContactGraph::max_colours + 1));
+  runs_.reserve(2 * (FxContactGraph::max_colours + 1));
+}
+
+void ContactBatches::pack(std::span<const ContactConstraint> constraints, const FxContactGraph& graph,
+                          std::uint32_t padding_body) {
+  batches_.clear();
+  runs_.clear();
+  for (int colour = 0; colour < graph.colour_count(); ++colour) {
+    add_runs(constraints, graph.members(colour), false, padding_body);
+  }
+  add_runs(constraints, graph.members(FxContactGraph::overflow), true, padding_body);
+}
+
+template <LaneFn OnePoint, LaneFn TwoPoints>
+void ContactBatches::sweep(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar) {
+  for (const Run& run : runs_) {
+    const bool serial = scalar || run.serial;
+    for (int i = run.first; i < run.first + run.count; ++i) {
+      FxContactBatch& k = batches_[i];
+      if (run.point_count == 1) {
+        serial ? run_serial<OnePoint>(k, states.data(), params) : run_batched<OnePoint>(k, states.data(), params);
+      } else {
+        serial ? run_serial<TwoPoints>(k, states.data(), params) : run_batched<TwoPoints>(k, states.data(), params);
+      }
+    }
+  }
+}
+
+void ContactBatches::warm_start(std::span<FxBodyState> states, bool scalar) {
+  sweep<&warm_start_lane<1>, &warm_start_lane<2>>(states, {}, scalar);
+}
+
+void ContactBatches::resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias,
+                                        bool scalar) {
+  if (use_bias) {
+    sweep<&solve_lane<1, true>, &solve_lane<2, true>>(states, params, scalar);
+  } else {
+    sweep<&solve_lane<1, false>, &solve_lane<2, false>>(states, params, scalar);
+  }
+}
+
+void ContactBatches::unpack(std::span<ContactConstraint> constraints) const {
+  for (const Run& run : runs_) {
+    for (int i = run.first; i < run.first + run.count; ++i) {
+      const FxContactBatch& k = batches_[i];
+      for (int lane = 0; lane < fx_lanes; ++lane) {
+        if (k.constraint[lane] < 0) continue;
+        ContactConstraint& c = constraints[k.constraint[lane]];
+        for (int p = 0; p < run.point_count; ++p) {
+          c.points[p].normal_impulse = k.normal_impulse[p][lane];
+          c.points[p].tangent_impulse = k.tangent_impulse[p][lane];
+          c.points[p].max_normal_impulse = k.max_normal_impulse[p][lane];
+        }
+      }
+    }
+  }
+}
+
+}  // namespace fx2d::detail

@@ -1,0 +1,91 @@
+// FxContactBatch: contact constraints transposed into columns of fx_lanes lanes, so that a
+// velocity pass over one colour of the contact graph runs as plain loops the compiler vectorises
+// (SSE, AVX2, NEON: the lane count of the machine does not matter, the loops are width-agnostic).
+//
+// Invariants:
+// - lanes of one batch belong to one colour, so they share no movable body and may be solved at
+//   once; overflow batches, whose lanes may share bodies, are solved lane by lane in order;
+// - every lane of a batch has the same point count (one- and two-point manifolds are packed in
+//   separate runs), and unused lanes point at the padding body with zero masses, so they change
+//   nothing;
+// - the arithmetic of one lane is one function (contact_batch.cpp) used by both the batched and
+//   the scalar path, and lanes are independent, so the two agree to the bit and the result does
+//   not depend on the lane count.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "contact_graph.h"
+#include "contact_solver.h"
+
+namespace fx2d::detail {
+
+inline constexpr int fx_lanes = 8;
+
+// The part of a body's solver state a contact reads, copied into locals for one pass.
+struct LaneBody {
+  float vx, vy, w;  // velocity
+  float dpx, dpy;   // displacement since the step began
+  float qc, qs;     // rotation since the step began
+};
+
+struct FxContactBatch;
+// The arithmetic of one lane: one contact of a batch in one pass.
+using LaneFn = void (*)(FxContactBatch& batch, int lane, LaneBody& a, LaneBody& b, const ContactSolveParams& params);
+
+struct alignas(32) FxContactBatch {
+  std::uint32_t body_a[fx_lanes];
+  std::uint32_t body_b[fx_lanes];
+  float normal_x[fx_lanes];
+  float normal_y[fx_lanes];
+  float inv_mass_a[fx_lanes];
+  float inv_inertia_a[fx_lanes];
+  float inv_mass_b[fx_lanes];
+  float inv_inertia_b[fx_lanes];
+  float friction[fx_lanes];
+  // Per manifold point: [point][lane].
+  float anchor_ax[2][fx_lanes];
+  float anchor_ay[2][fx_lanes];
+  float anchor_bx[2][fx_lanes];
+  float anchor_by[2][fx_lanes];
+  float adjusted_separation[2][fx_lanes];
+  float normal_mass[2][fx_lanes];
+  float tangent_mass[2][fx_lanes];
+  float normal_impulse[2][fx_lanes];
+  float tangent_impulse[2][fx_lanes];
+  float max_normal_impulse[2][fx_lanes];
+  int constraint[fx_lanes];  // index into the step's constraints, -1 for padding
+};
+
+class ContactBatches {
+ public:
+  // Grows storage for this many constraints, so pack() does not allocate up to there.
+  void reserve(std::size_t constraints);
+  // Packs the constraints colour by colour. `padding_body` indexes a state that is never read
+  // back (one past the last body).
+  void pack(std::span<const ContactConstraint> constraints, const FxContactGraph& graph, std::uint32_t padding_body);
+  // With `scalar`, every batch is solved lane by lane (the scalar twin); the result is the same.
+  void warm_start(std::span<FxBodyState> states, bool scalar);
+  void resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias, bool scalar);
+  // Copies the accumulated impulses back to the constraints they came from.
+  void unpack(std::span<ContactConstraint> constraints) const;
+
+ private:
+  struct Run {
+    int first = 0;        // first batch
+    int count = 0;        // batches
+    int point_count = 1;  // 1 or 2
+    bool serial = false;  // overflow: lanes may share bodies
+  };
+  template <LaneFn OnePoint, LaneFn TwoPoints>
+  void sweep(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar);
+  void add_runs(std::span<const ContactConstraint> constraints, std::span<const int> members, bool serial,
+                std::uint32_t padding_body);
+
+  std::vector<FxContactBatch> batches_;
+  std::vector<Run> runs_;
+};
+
+}  // namespace fx2d::detail

@@ -1,0 +1,98 @@
+// The contact graph's invariant, checked exhaustively: within a colour no movable body appears
+// twice; every constraint is in exactly one group; static bodies never force a new colour.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+#include <vector>
+
+#include "contact_graph.h"
+#include "contact_solver.h"
+
+namespace fx2d::detail {
+namespace {
+
+std::vector<ContactConstraint> pairs_to_constraints(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
+  std::vector<ContactConstraint> constraints(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    constraints[i].body_a = pairs[i].first;
+    constraints[i].body_b = pairs[i].second;
+  }
+  return constraints;
+}
+
+// Checks the invariant and returns how many constraints the groups hold in all.
+std::size_t check_colouring(const FxContactGraph& graph, const std::vector<ContactConstraint>& constraints,
+                            const std::vector<std::uint8_t>& movable) {
+  std::vector<int> seen(constraints.size(), 0);
+  std::size_t total = 0;
+  for (int colour = 0; colour < graph.colour_count(); ++colour) {
+    std::set<std::uint32_t> bodies;
+    for (const int index : graph.members(colour)) {
+      ++seen[index];
+      ++total;
+      for (const std::uint32_t body : {constraints[index].body_a, constraints[index].body_b}) {
+        if (!movable[body]) continue;
+        EXPECT_TRUE(bodies.insert(body).second) << "body " << body << " twice in colour " << colour;
+      }
+    }
+  }
+  for (const int index : graph.members(FxContactGraph::overflow)) {
+    ++seen[index];
+    ++total;
+  }
+  for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "constraint " << i;
+  return total;
+}
+
+TEST(ContactGraph, RandomGraphsNeverShareAMovableBodyWithinAColour) {
+  std::mt19937 engine(12345);
+  auto random = [&engine] { return static_cast<std::uint32_t>(engine()); };
+  for (int trial = 0; trial < 200; ++trial) {
+    const std::uint32_t bodies = 2 + random() % 300;
+    std::vector<std::uint8_t> movable(bodies);
+    for (auto& m : movable) m = (random() % 5) != 0;  // a fifth static
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    const std::size_t count = random() % (4 * bodies);
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::uint32_t a = random() % bodies;
+      const std::uint32_t b = random() % bodies;
+      if (a != b) pairs.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    const auto constraints = pairs_to_constraints(pairs);
+    FxContactGraph graph;
+    graph.build(constraints, movable);
+    EXPECT_EQ(check_colouring(graph, constraints, movable), constraints.size()) << "trial " << trial;
+  }
+}
+
+TEST(ContactGraph, StaticBodiesNeverConflict) {
+  // Forty boxes all resting on one static ground: one colour suffices.
+  std::vector<std::uint8_t> movable(41, 1);
+  movable[0] = 0;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::uint32_t i = 1; i <= 40; ++i) pairs.emplace_back(0, i);
+  const auto constraints = pairs_to_constraints(pairs);
+  FxContactGraph graph;
+  graph.build(constraints, movable);
+  EXPECT_EQ(graph.colour_count(), 1);
+  EXPECT_TRUE(graph.members(FxContactGraph::overflow).empty());
+}
+
+TEST(ContactGraph, WhatFitsNoColourGoesToOverflow) {
+  // A hub body touching more bodies than there are colours: the rest overflows, in order.
+  const std::uint32_t spokes = FxContactGraph::max_colours + 5;
+  std::vector<std::uint8_t> movable(spokes + 1, 1);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  for (std::uint32_t i = 1; i <= spokes; ++i) pairs.emplace_back(0, i);
+  const auto constraints = pairs_to_constraints(pairs);
+  FxContactGraph graph;
+  graph.build(constraints, movable);
+  EXPECT_EQ(graph.colour_count(), FxContactGraph::max_colours);
+  ASSERT_EQ(graph.members(FxContactGraph::overflow).size(), 5u);
+  EXPECT_EQ(graph.members(FxContactGraph::overflow)[0], FxContactGraph::max_colours);
+  check_colouring(graph, constraints, movable);
+}
+
+}  // namespace
+}  // namespace fx2d::detail
