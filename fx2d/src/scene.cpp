@@ -74,14 +74,19 @@ World::World(const FxSceneSettings& s) : settings(s) { validate_settings(setting
 void clamp_velocity(const FxSceneSettings& settings, BodySim& sim) {
   const float max_speed = settings.max_linear_speed;
   const float speed_squared = length_squared(sim.linear_velocity);
-  if (speed_squared > max_speed * max_speed) {
-    // Scale by the largest component first, so that a velocity whose square overflows keeps its direction.
-    const FxVec2f v = sim.linear_velocity;
+  if (!(speed_squared <= max_speed * max_speed)) {
+    // Keep the direction even when a push overflowed a component to infinity: scale by the
+    // largest finite component, or take the infinite components' signs alone.
+    FxVec2f v = sim.linear_velocity;
+    if (!is_finite(v)) {
+      v = {std::isinf(v.x) ? std::copysign(1.0f, v.x) : 0.0f, std::isinf(v.y) ? std::copysign(1.0f, v.y) : 0.0f};
+    }
     const float largest = std::max(std::fabs(v.x), std::fabs(v.y));
-    sim.linear_velocity = max_speed * normalize((1.0f / largest) * v);
+    sim.linear_velocity = largest > 0.0f ? max_speed * normalize((1.0f / largest) * v) : FxVec2f{};
   }
   const float max_spin = max_angular_speed(settings);
-  sim.angular_velocity = std::clamp(sim.angular_velocity, -max_spin, max_spin);
+  const float w = std::isnan(sim.angular_velocity) ? 0.0f : sim.angular_velocity;
+  sim.angular_velocity = std::clamp(w, -max_spin, max_spin);
 }
 
 FxVec2f World::center_offset(std::uint32_t a, std::uint32_t b) const {
