@@ -88,6 +88,7 @@ struct ResultSet {
   Provenance provenance;
   std::vector<SceneRecord> scenes;
   std::vector<RunRecord> runs;
+  bool partial = false;            // a SIGINT stopped the run: some runs or repeats are missing
 
   friend bool operator==(const ResultSet&, const ResultSet&) = default;
 };

@@ -115,6 +115,7 @@ constexpr Member<Provenance, std::string> provenance_strings[] = {
     {"counter_kind", &Provenance::counter_kind},
 };
 constexpr Member<Provenance, double> provenance_numbers[] = {{"tsc_ghz", &Provenance::tsc_ghz}};
+constexpr const char* partial_attribute = "partial";
 
 constexpr Member<SceneRecord, std::string> scene_strings[] = {
     {"name", &SceneRecord::name},
@@ -226,6 +227,8 @@ class ResultsWriter {
     if (!file.valid())
       throw InputError(path_ + ": cannot create " + file_path + "; is its directory there and writable?");
     write_provenance(file.get(), results.provenance);
+    // Only a partial file carries the attribute, so complete files keep the layout they always had.
+    if (results.partial) number_attribute<std::uint8_t>(file.get(), "/", partial_attribute, 1);
     write_scenes(file.get(), results.scenes);
     write_runs(file.get(), results.runs, results.provenance.counter_kind);
     if (!file.close()) fail("the file to disk");
@@ -399,6 +402,8 @@ class ResultsReader {
     for (const auto& member : provenance_numbers) {
       results.provenance.*member.field = number_attribute<double>(file.get(), "/", member.name);
     }
+    results.partial = H5Aexists(file.get(), partial_attribute) > 0 &&
+                      number_attribute<std::uint8_t>(file.get(), "/", partial_attribute) != 0;
     for_each_numbered_group(file.get(), "scenes", [&](hid_t group, const std::string& where) {
       results.scenes.push_back(read_scene(group, where));
     });

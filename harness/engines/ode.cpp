@@ -17,6 +17,11 @@
 // the same mixing and threshold as Box2D; softness stays at the world's ERP and CFM.
 // Polygons are rejected: ODE 0.16's convex-box collider returns one contact point, so a convex
 // prism cannot rest on a face (a triangle dropped on the ground sinks 2 cm and slides 4 cm).
+// Determinism: dWorldQuickStep shuffles its constraint rows with dRandInt, which draws from one
+// process-wide seed (ODE 0.16.2 quickstep.cpp:2457, misc.cpp:33), so a world's trajectory
+// depended on how many rows every earlier world in the process had shuffled (the warm-up, earlier
+// repeats). Each world keeps its own seed, swapped in around its step, so that a trajectory
+// depends on the scene alone, the same in every repeat and every process.
 // Space: dHashSpace with ODE's default levels. On the canonical scenes it and dSweepAndPruneSpace
 // timed within run-to-run noise of each other; the hash grid is kept because its cost does not
 // depend on how bodies line up along one sort axis (a pile is 20 m wide and many metres tall).
@@ -114,7 +119,9 @@ class OdeEngine final : public Engine {
   void step() override {
     touching_pairs_ = 0;
     dSpaceCollide(space_, this, &OdeEngine::near_callback);
+    dRandSetSeed(random_seed_);
     dWorldQuickStep(world_, dt_);
+    random_seed_ = dRandGetSeed();
     dJointGroupEmpty(contact_group_);
     flatten_dynamic_bodies();
   }
@@ -323,6 +330,7 @@ class OdeEngine final : public Engine {
   double dt_ = 0.0;
   std::vector<std::pair<size_t, size_t>> jointed_pairs_;  // sorted (lower, higher) body indices
   int touching_pairs_ = 0;  // geom pairs with at least one contact point in the last step
+  unsigned long random_seed_ = 0;  // this world's state of ODE's shared generator, between steps
 };
 
 }  // namespace

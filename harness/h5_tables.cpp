@@ -1,0 +1,186 @@
+// Appends column tables to a freshly written result file; invariants in h5_tables.h.
+#include "h5_tables.h"
+
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <stdexcept>
+#include <utility>
+
+#include "errors.h"
+#include "results_h5.h"
+
+namespace fxbench {
+namespace {
+
+// Owns one HDF5 identifier; a failed creation leaves it invalid.
+class Owned {
+ public:
+  Owned(hid_t id, herr_t (*closer)(hid_t)) : id_(id), close_(closer) {}
+  Owned(Owned&& other) noexcept : id_(std::exchange(other.id_, -1)), close_(other.close_) {}
+  Owned(const Owned&) = delete;
+  Owned& operator=(const Owned&) = delete;
+  Owned& operator=(Owned&&) = delete;
+  ~Owned() {
+    if (id_ >= 0) close_(id_);
+  }
+  hid_t get() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+  bool close() { return close_(std::exchange(id_, -1)) >= 0; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+template <class T>
+struct Stored;
+template <>
+struct Stored<double> {
+  static hid_t file_type() { return H5T_IEEE_F64LE; }
+  static hid_t memory_type() { return H5T_NATIVE_DOUBLE; }
+};
+template <>
+struct Stored<std::int32_t> {
+  static hid_t file_type() { return H5T_STD_I32LE; }
+  static hid_t memory_type() { return H5T_NATIVE_INT32; }
+};
+template <>
+struct Stored<std::uint8_t> {
+  static hid_t file_type() { return H5T_STD_U8LE; }
+  static hid_t memory_type() { return H5T_NATIVE_UINT8; }
+};
+
+class TableAppender {
+ public:
+  TableAppender(hid_t file, std::string path) : file_(file), path_(std::move(path)) {}
+
+  void append(const H5Table& table) const {
+    const std::size_t rows = row_count(table);
+    const Owned links(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+    H5Pset_create_intermediate_group(links.get(), 1);
+    const Owned group(H5Gcreate2(file_, table.path.c_str(), links.get(), H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    if (!group.valid()) fail(table.path);
+    for (const auto& [attribute_name, value] : table.attributes) {
+      const std::string& name = attribute_name;  // Clang 14 cannot capture a structured binding
+      std::visit([&](const auto& v) { attribute(group.get(), table.path + " attribute " + name, name, v); }, value);
+    }
+    for (const H5Column& column : table.columns) {
+      const std::string where = table.path + "/" + column.name;
+      std::visit([&](const auto& values) { write_column(group.get(), where, column, values, rows); }, column.values);
+    }
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const { throw std::runtime_error(path_ + ": could not write " + what); }
+
+  std::size_t row_count(const H5Table& table) const {
+    std::size_t rows = 0;
+    for (std::size_t i = 0; i < table.columns.size(); ++i) {
+      const std::size_t length = std::visit([](const auto& values) { return values.size(); }, table.columns[i].values);
+      if (i > 0 && length != rows)
+        fail(table.path + "/" + table.columns[i].name + ": " + std::to_string(length) + " rows, not " + std::to_string(rows));
+      rows = length;
+    }
+    return rows;
+  }
+
+  static Owned string_type() {
+    Owned type(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(type.get(), H5T_VARIABLE);
+    H5Tset_cset(type.get(), H5T_CSET_UTF8);
+    return type;
+  }
+
+  void raw_attribute(hid_t owner, const std::string& where, const std::string& name, hid_t file_type,
+                     hid_t memory_type, const void* data) const {
+    const Owned space(H5Screate(H5S_SCALAR), H5Sclose);
+    const Owned created(H5Acreate2(owner, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+    if (!created.valid() || H5Awrite(created.get(), memory_type, data) < 0) fail(where);
+  }
+
+  void attribute(hid_t owner, const std::string& where, const std::string& name, const std::string& value) const {
+    const Owned type = string_type();
+    const char* text = value.c_str();
+    raw_attribute(owner, where, name, type.get(), type.get(), &text);
+  }
+
+  template <class T>
+  void attribute(hid_t owner, const std::string& where, const std::string& name, T value) const {
+    raw_attribute(owner, where, name, Stored<T>::file_type(), Stored<T>::memory_type(), &value);
+  }
+
+  Owned dataset(hid_t group, const std::string& where, const std::string& name, hid_t file_type, hid_t memory_type,
+                std::size_t rows, const void* data) const {
+    const hsize_t extent = rows;
+    const Owned space(H5Screate_simple(1, &extent, nullptr), H5Sclose);
+    Owned created(H5Dcreate2(group, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                  H5Dclose);
+    // HDF5 refuses a null buffer even for zero rows, and an empty vector may give one.
+    if (!created.valid() || (rows > 0 && H5Dwrite(created.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0))
+      fail(where);
+    return created;
+  }
+
+  void write_column(hid_t group, const std::string& where, const H5Column& column,
+                    const std::vector<std::string>& values, std::size_t rows) const {
+    std::vector<const char*> texts;
+    texts.reserve(values.size());
+    for (const std::string& value : values) texts.push_back(value.c_str());
+    const Owned type = string_type();
+    dataset(group, where, column.name, type.get(), type.get(), rows, texts.data());
+  }
+
+  template <class T>
+  void write_column(hid_t group, const std::string& where, const H5Column& column, const std::vector<T>& values,
+                    std::size_t rows) const {
+    const Owned created =
+        dataset(group, where, column.name, Stored<T>::file_type(), Stored<T>::memory_type(), rows, values.data());
+    attribute(created.get(), where + " attribute units", "units", column.units);
+  }
+
+  hid_t file_;
+  std::string path_;
+};
+
+// Turns HDF5's own error printing off for its lifetime: failures reach the user as our messages.
+class QuietErrors {
+ public:
+  QuietErrors() {
+    H5Eget_auto2(H5E_DEFAULT, &function_, &data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  QuietErrors(const QuietErrors&) = delete;
+  QuietErrors& operator=(const QuietErrors&) = delete;
+  ~QuietErrors() { H5Eset_auto2(H5E_DEFAULT, function_, data_); }
+
+ private:
+  H5E_auto2_t function_ = nullptr;
+  void* data_ = nullptr;
+};
+
+}  // namespace
+
+void write_results_with_tables_h5(const ResultSet& results, std::span<const H5Table> tables, const std::string& path,
+                                  bool overwrite) {
+  namespace fs = std::filesystem;
+  if (!overwrite && fs::exists(path)) throw InputError(path + ": exists; pass --force to overwrite it");
+  const std::string partial = path + ".tables." + std::to_string(getpid());
+  try {
+    write_results_h5(results, partial, true);
+    const QuietErrors quiet;
+    Owned file(H5Fopen(partial.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    if (!file.valid()) throw std::runtime_error(path + ": could not reopen " + partial);
+    const TableAppender appender(file.get(), path);
+    for (const H5Table& table : tables) appender.append(table);
+    if (!file.close()) throw std::runtime_error(path + ": could not write the file to disk");
+    fs::rename(partial, path);
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove(partial, ignored);
+    throw;
+  }
+}
+
+}  // namespace fxbench

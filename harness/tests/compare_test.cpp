@@ -1,0 +1,396 @@
+// Tests of `fx2d-bench compare` on result files built in memory with known differences and
+// written with write_results_h5: the verdict of each row, the exit codes 0/1/2/3, the refusal of
+// different scenes, the provenance warnings, accuracy regressions ("faster, less accurate"),
+// same/changed physics, the cross-engine view, the command-line wiring, and the JSON, Markdown
+// and terminal outputs against golden files.
+//
+// The goldens are goldens/compare_*.{json,md,txt}. They are deterministic (the bootstrap has a
+// fixed seed). Regenerate them, after a deliberate change of method or format, only with:
+//   FX2D_UPDATE_GOLDENS=1 <build>/harness/tests/compare_test --gtest_filter='*Golden*'
+#include "compare.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <sstream>
+
+#include "commands.h"
+#include "results_h5.h"
+
+namespace fxbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* pile_hash = "1111111111111111";
+constexpr const char* stacks_hash = "2222222222222222";
+constexpr int steps = 40;
+
+// Step s of repeat r costs scale * (0.5 + 0.01 s) ms, the growth of a settling scene, times a
+// +-0.6% factor per repeat (the machine's state) and a +-0.3% factor per step, patterns that
+// `noise_phase` shifts so that two runs never share their noise. A repeat's mean per step is
+// thus within +-0.9% of its noiseless value, and the ratio of two runs' medians within
+// 1.009 / 0.991 = 1.8% of the true ratio. Phases split the step 40/60, cycles count at
+// 2.2 GHz, and accuracy is one sample at the last step.
+RunRecord synthetic_run(const std::string& engine, const std::string& scene, double scale, int noise_phase,
+                        int repeats = 8) {
+  RunRecord run;
+  run.engine = engine;
+  run.engine_version = "1.0";
+  run.scene = scene;
+  run.scene_hash = scene == "pile" ? pile_hash : stacks_hash;
+  run.bodies = scene == "pile" ? 300 : 50;
+  run.body_count = run.bodies + 1;
+  run.steps = steps;
+  run.repeats = repeats;
+  run.hash_every = 20;
+  run.phase_names = {"collide", "solve"};
+  for (int r = 0; r < repeats; ++r) {
+    for (int s = 0; s < steps; ++s) {
+      const double repeat_noise = 0.006 * (((r * 5 + noise_phase) % 7) - 3) / 3.0;
+      const double step_noise = 0.003 * (((r * 7 + s * 3 + noise_phase) % 11) - 5) / 5.0;
+      const double ms = scale * (0.5 + 0.01 * s) * (1.0 + repeat_noise) * (1.0 + step_noise);
+      run.wall_ms.push_back(ms);
+      run.cpu_ms.push_back(ms);
+      run.cycles.push_back(static_cast<std::uint64_t>(std::llround(ms * 2.2e6)));
+      run.contacts.push_back(run.bodies);
+      run.phase_ms.push_back(0.4 * ms);
+      run.phase_ms.push_back(0.6 * ms);
+    }
+  }
+  AccuracySample last;
+  last.step = steps;
+  last.max_penetration = 0.002;
+  last.max_displacement = scene == "pile" ? 3.0 : 0.001;
+  run.accuracy = {last};
+  run.state_hashes = {engine + "-" + scene + "-h20", engine + "-" + scene + "-h40"};
+  run.final_state_hash = run.state_hashes.back();
+  return run;
+}
+
+ResultSet results_of(std::vector<RunRecord> runs) {
+  ResultSet results;
+  results.provenance.cpu_model = "Test CPU @ 2.2GHz";
+  results.provenance.hostname = "bench-01";
+  results.provenance.compiler = "GNU 12.2.0";
+  results.provenance.build_flags = "-O2 -ffp-contract=off";
+  results.scenes = {{"pile", pile_hash, "{}", "", "penetration"}, {"stacks", stacks_hash, "{}", "", "displacement"}};
+  results.runs = std::move(runs);
+  return results;
+}
+
+class CompareFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    directory_ = fs::temp_directory_path() / ("fx2d_compare_test_" + std::to_string(getpid()));
+    fs::create_directories(directory_);
+  }
+  void TearDown() override { fs::remove_all(directory_); }
+
+  std::string write(const ResultSet& results, const std::string& name) const {
+    const std::string path = (directory_ / name).string();
+    write_results_h5(results, path, true);
+    return path;
+  }
+
+  CompareReport compare(const ResultSet& a, const ResultSet& b, const CompareSettings& settings = {}) const {
+    return compare_files(write(a, "a.h5"), write(b, "b.h5"), "", settings);
+  }
+
+  // One of each A/B outcome: fx2d pile 10% slower (regression), fx2d stacks 10% faster but
+  // drifting (faster, less accurate), box2d pile untouched (unchanged), ode pile 10% faster
+  // (improvement), ode stacks with two repeats (inconclusive).
+  CompareReport mixed_report() const {
+    RunRecord drifting = synthetic_run("fx2d", "stacks", 0.9, 5);
+    drifting.accuracy[0].max_displacement = 0.01;
+    const ResultSet a = results_of({synthetic_run("fx2d", "pile", 1.0, 0), synthetic_run("fx2d", "stacks", 1.0, 0),
+                                    synthetic_run("box2d", "pile", 2.0, 0), synthetic_run("ode", "pile", 0.5, 0),
+                                    synthetic_run("ode", "stacks", 0.5, 0, 2)});
+    const ResultSet b =
+        results_of({synthetic_run("fx2d", "pile", 1.1, 5), drifting, synthetic_run("box2d", "pile", 2.0, 0),
+                    synthetic_run("ode", "pile", 0.45, 5), synthetic_run("ode", "stacks", 0.5, 5, 2)});
+    return compare(a, b);
+  }
+
+  fs::path directory_;
+};
+
+const CompareRow& row_of(const CompareReport& report, const std::string& engine, const std::string& scene,
+                         const std::string& metric) {
+  for (const CompareRow& row : report.rows)
+    if (row.engine == engine && row.scene == scene && row.metric == metric) return row;
+  throw std::logic_error("no row " + engine + " " + scene + " " + metric);
+}
+
+TEST_F(CompareFiles, IdenticalFilesAreNoChangeWithSamePhysicsAndExitZero) {
+  const ResultSet results = results_of({synthetic_run("fx2d", "pile", 1.0, 0)});
+  const CompareReport report = compare(results, results);
+  ASSERT_EQ(report.rows.size(), 4u);  // ms_per_step, cycles_per_step, phase:collide, phase:solve
+  for (const CompareRow& row : report.rows) {
+    EXPECT_EQ(row.estimate.ratio, 1.0) << row.metric;
+    EXPECT_EQ(row.speed.speed, Speed::no_change) << row.metric;
+    EXPECT_EQ(row.same_physics, true);
+    EXPECT_EQ(row.test_name, "wilcoxon-signed-rank-paired");
+    EXPECT_EQ(row.test.p_value, 1.0);
+  }
+  EXPECT_EQ(row_of(report, "fx2d", "pile", "ms_per_step").verdict(), "no change");
+  EXPECT_TRUE(report.warnings.empty());
+  EXPECT_EQ(report.exit_code(), exit_ok);
+}
+
+TEST_F(CompareFiles, TenPercentSlowerStepsAreARegressionInEveryMetricAndExitOne) {
+  const CompareReport report = compare(results_of({synthetic_run("fx2d", "pile", 1.0, 0)}),
+                                       results_of({synthetic_run("fx2d", "pile", 1.1, 5)}));
+  for (const CompareRow& row : report.rows) {
+    EXPECT_EQ(row.speed.speed, Speed::slower) << row.metric;
+    EXPECT_NEAR(row.estimate.ratio, 1.1, 1.1 * 0.018) << row.metric;
+    EXPECT_GE(row.estimate.ci.low, 1.1 * 0.991 / 1.009) << row.metric;
+  }
+  EXPECT_EQ(report.count_regressions(), 1);  // one gating row: ms_per_step
+  EXPECT_EQ(report.exit_code(), exit_regression);
+}
+
+TEST_F(CompareFiles, FasterButLessAccurateIsFlaggedAndIsARegression) {
+  RunRecord candidate = synthetic_run("fx2d", "pile", 0.9, 5);
+  candidate.accuracy[0].max_penetration *= 2.0;
+  const CompareReport report = compare(results_of({synthetic_run("fx2d", "pile", 1.0, 0)}), results_of({candidate}));
+  const CompareRow& row = row_of(report, "fx2d", "pile", "ms_per_step");
+  EXPECT_EQ(row.speed.speed, Speed::faster);
+  EXPECT_EQ(row.verdict(), "faster, less accurate");
+  EXPECT_EQ(report.exit_code(), exit_regression);
+}
+
+TEST_F(CompareFiles, AccuracyWithinToleranceIsTheSameAndBeyondItIsWorse) {
+  // Tolerance 5% of 2 mm plus the 0.1 mm floor: 0.2 mm.
+  RunRecord within = synthetic_run("fx2d", "pile", 1.0, 5);
+  within.accuracy[0].max_penetration = 0.002 + 0.00019;
+  const CompareReport same = compare(results_of({synthetic_run("fx2d", "pile", 1.0, 0)}), results_of({within}));
+  EXPECT_EQ(row_of(same, "fx2d", "pile", "ms_per_step").verdict(), "no change");
+  EXPECT_EQ(same.exit_code(), exit_ok);
+
+  RunRecord beyond = synthetic_run("fx2d", "pile", 1.0, 5);
+  beyond.accuracy[0].max_penetration = 0.002 + 0.00021;
+  const CompareReport worse = compare(results_of({synthetic_run("fx2d", "pile", 1.0, 0)}), results_of({beyond}));
+  EXPECT_EQ(row_of(worse, "fx2d", "pile", "ms_per_step").verdict(), "no change, less accurate");
+  EXPECT_EQ(worse.exit_code(), exit_regression);
+}
+
+TEST_F(CompareFiles, DisplacementJudgesOnlyWhereItIsThePrimaryMetric) {
+  // A pile that falls 10% further is a different trajectory, not an error; a stack that drifts
+  // 10 mm instead of 1 mm is an error.
+  RunRecord pile = synthetic_run("fx2d", "pile", 1.0, 5);
+  pile.accuracy[0].max_displacement *= 1.1;
+  RunRecord stacks = synthetic_run("fx2d", "stacks", 1.0, 5);
+  stacks.accuracy[0].max_displacement = 0.01;
+  const CompareReport report =
+      compare(results_of({synthetic_run("fx2d", "pile", 1.0, 0), synthetic_run("fx2d", "stacks", 1.0, 0)}),
+              results_of({pile, stacks}));
+  const CompareRow& pile_row = row_of(report, "fx2d", "pile", "ms_per_step");
+  EXPECT_EQ(pile_row.accuracy[1].change, AccuracyChange::changed);
+  EXPECT_EQ(pile_row.accuracy_change(), AccuracyChange::same);
+  EXPECT_EQ(row_of(report, "fx2d", "stacks", "ms_per_step").accuracy_change(), AccuracyChange::worse);
+  EXPECT_EQ(report.count_regressions(), 1);
+}
+
+TEST_F(CompareFiles, TwoRepeatsAreInconclusiveAndExitThree) {
+  const CompareReport report = compare(results_of({synthetic_run("fx2d", "pile", 1.0, 0, 2)}),
+                                       results_of({synthetic_run("fx2d", "pile", 1.1, 5, 2)}));
+  const CompareRow& row = row_of(report, "fx2d", "pile", "ms_per_step");
+  EXPECT_EQ(row.speed.speed, Speed::inconclusive);
+  EXPECT_GE(row.speed.repeats_needed.value_or(0), VerdictRules{}.min_repeats);
+  EXPECT_EQ(report.exit_code(), exit_inconclusive);
+}
+
+TEST_F(CompareFiles, DifferentSceneHashIsRefusedUnlessForced) {
+  ResultSet other_scene = results_of({synthetic_run("fx2d", "pile", 1.0, 5)});
+  other_scene.runs[0].scene_hash = "3333333333333333";
+  other_scene.scenes[0].hash = "3333333333333333";
+  const ResultSet reference = results_of({synthetic_run("fx2d", "pile", 1.0, 0)});
+  try {
+    compare(reference, other_scene);
+    FAIL() << "different scenes were compared";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("different scene"), std::string::npos) << message;
+    EXPECT_NE(message.find("--force"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+  CompareSettings forced;
+  forced.force = true;
+  const CompareReport report = compare(reference, other_scene, forced);
+  EXPECT_FALSE(report.rows.empty());
+}
+
+TEST_F(CompareFiles, ChangedStateHashIsChangedPhysicsAndUnpaired) {
+  RunRecord candidate = synthetic_run("fx2d", "pile", 1.0, 5);
+  candidate.state_hashes.back() = candidate.final_state_hash = "other";
+  const CompareReport report = compare(results_of({synthetic_run("fx2d", "pile", 1.0, 0)}), results_of({candidate}));
+  const CompareRow& row = row_of(report, "fx2d", "pile", "ms_per_step");
+  EXPECT_EQ(row.same_physics, false);
+  EXPECT_EQ(row.test_name, "mann-whitney-u");
+}
+
+TEST_F(CompareFiles, DifferentMachineOrCompilerWarnsUnlessForced) {
+  ResultSet candidate = results_of({synthetic_run("fx2d", "pile", 1.0, 5)});
+  candidate.provenance.cpu_model = "Other CPU";
+  candidate.provenance.compiler = "Clang 14.0.6";
+  const ResultSet reference = results_of({synthetic_run("fx2d", "pile", 1.0, 0)});
+  const CompareReport warned = compare(reference, candidate);
+  ASSERT_EQ(warned.warnings.size(), 2u);
+  EXPECT_NE(warned.warnings[0].find("cpu_model"), std::string::npos);
+  EXPECT_NE(warned.warnings[1].find("compiler"), std::string::npos);
+  CompareSettings forced;
+  forced.force = true;
+  EXPECT_TRUE(compare(reference, candidate, forced).warnings.empty());
+}
+
+TEST_F(CompareFiles, NothingInCommonIsBadInput) {
+  EXPECT_THROW(compare(results_of({synthetic_run("fx2d", "pile", 1.0, 0)}),
+                       results_of({synthetic_run("box2d", "pile", 1.0, 0)})),
+               InputError);
+}
+
+TEST_F(CompareFiles, CorruptFileIsBadInput) {
+  const std::string good = write(results_of({synthetic_run("fx2d", "pile", 1.0, 0)}), "good.h5");
+  const std::string corrupt = (directory_ / "corrupt.h5").string();
+  std::ofstream(corrupt) << "not an HDF5 file";
+  EXPECT_THROW(compare_files(good, corrupt, "", {}), InputError);
+  EXPECT_THROW(compare_files(corrupt, std::nullopt, "", {}), InputError);
+}
+
+ResultSet three_engines() {
+  return results_of({synthetic_run("fx2d", "pile", 1.0, 0), synthetic_run("box2d", "pile", 2.0, 3),
+                     synthetic_run("ode", "pile", 0.5, 6)});
+}
+
+TEST_F(CompareFiles, OneFileComparesFx2dAgainstTheOtherEnginesWithoutGating) {
+  const CompareReport report = compare_files(write(three_engines(), "engines.h5"), std::nullopt, "", {});
+  EXPECT_TRUE(report.cross_engine);
+  const CompareRow& against_box2d = report.rows.at(0);
+  EXPECT_EQ(against_box2d.engine, "fx2d");
+  EXPECT_EQ(against_box2d.against, "box2d");
+  EXPECT_NEAR(against_box2d.estimate.ratio, 0.5, 0.5 * 0.018);
+  EXPECT_EQ(against_box2d.speed.speed, Speed::faster);
+  EXPECT_FALSE(against_box2d.same_physics.has_value());
+  EXPECT_EQ(report.rows.size(), 4u);  // ms and cycles against each of two engines: no phases across engines
+  EXPECT_EQ(report.rows.at(2).against, "ode");
+  EXPECT_EQ(report.rows.at(2).speed.speed, Speed::slower);
+  EXPECT_EQ(report.exit_code(), exit_ok);  // fx2d slower than ode: a report, not a gate
+}
+
+TEST_F(CompareFiles, BaselineComparesEveryOtherEngineAgainstIt) {
+  const CompareReport report = compare_files(write(three_engines(), "engines.h5"), std::nullopt, "box2d", {});
+  ASSERT_EQ(report.rows.size(), 4u);
+  EXPECT_EQ(report.rows[0].engine, "fx2d");
+  EXPECT_EQ(report.rows[0].against, "box2d");
+  EXPECT_EQ(report.rows[2].engine, "ode");
+  EXPECT_EQ(report.rows[2].against, "box2d");
+  EXPECT_NEAR(report.rows[2].estimate.ratio, 0.25, 0.25 * 0.018);
+}
+
+// --- the command line ---------------------------------------------------------------------------
+
+class CapturedStdout {
+ public:
+  CapturedStdout() : previous_(std::cout.rdbuf(text_.rdbuf())) {}
+  ~CapturedStdout() { std::cout.rdbuf(previous_); }
+  CapturedStdout(const CapturedStdout&) = delete;
+  CapturedStdout& operator=(const CapturedStdout&) = delete;
+  std::string text() const { return text_.str(); }
+
+ private:
+  std::ostringstream text_;
+  std::streambuf* previous_;
+};
+
+// Parses `arguments` after "fx2d-bench compare"; returns the exit status the command set.
+int run_compare(std::vector<std::string> arguments) {
+  CLI::App app;
+  int status = -1;
+  register_compare(app, status);
+  arguments.insert(arguments.begin(), "compare");
+  std::reverse(arguments.begin(), arguments.end());  // CLI11 takes a vector in reverse order
+  app.parse(arguments);
+  return status;
+}
+
+TEST_F(CompareFiles, CommandPrintsJsonAndSetsTheExitStatus) {
+  const std::string a = write(results_of({synthetic_run("fx2d", "pile", 1.0, 0)}), "a.h5");
+  const std::string b = write(results_of({synthetic_run("fx2d", "pile", 1.1, 5)}), "b.h5");
+  CapturedStdout captured;
+  EXPECT_EQ(run_compare({a, b, "--json"}), exit_regression);
+  const auto json = nlohmann::json::parse(captured.text());
+  EXPECT_EQ(json["schema"], "fx2d-bench.compare/1");
+  EXPECT_EQ(json["regressions"], 1);
+  EXPECT_EQ(json["rows"][0]["verdict"], "slower");
+  EXPECT_EQ(json["rows"][0]["physics"], "same");
+}
+
+TEST_F(CompareFiles, CommandRejectsBaselineWithTwoFilesAndJsonWithMarkdown) {
+  const std::string a = write(three_engines(), "a.h5");
+  EXPECT_THROW(run_compare({a, a, "--baseline", "box2d"}), CLI::ParseError);
+  EXPECT_THROW(run_compare({a, a, "--json", "--markdown"}), CLI::ParseError);
+  EXPECT_THROW(run_compare({a, "--baseline", "bullet"}), CLI::ParseError);
+  EXPECT_THROW(run_compare({a, a, "--noise", "-0.1"}), CLI::ParseError);
+}
+
+// --- outputs against goldens ----------------------------------------------------------------------
+
+std::string file_text(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+void expect_matches_golden(const std::string& text, const std::string& name) {
+  const fs::path golden = fs::path(FX2D_SOURCE_DIR) / "goldens" / name;
+  if (std::getenv("FX2D_UPDATE_GOLDENS") != nullptr) {
+    std::ofstream(golden, std::ios::binary) << text;
+    GTEST_SKIP() << "regenerated " << golden;
+  }
+  ASSERT_TRUE(fs::exists(golden)) << golden << " is missing; regenerate it as this file's header says";
+  std::istringstream actual_lines(text);
+  std::istringstream golden_lines(file_text(golden));
+  std::string actual;
+  std::string expected;
+  for (int line = 1; std::getline(golden_lines, expected); ++line) {
+    if (!std::getline(actual_lines, actual)) actual = "<end of output>";
+    ASSERT_EQ(actual, expected) << golden << ":" << line << " differs; if deliberately, regenerate it as this file's header says";
+  }
+  EXPECT_FALSE(std::getline(actual_lines, actual)) << "output goes on past the end of " << golden << ": " << actual;
+}
+
+TEST_F(CompareFiles, MixedOutcomesHeadlineAndExitCode) {
+  const CompareReport report = mixed_report();
+  EXPECT_EQ(report.headline(), "2 regressions, 1 improvement, 1 unchanged, 1 inconclusive");
+  EXPECT_EQ(report.exit_code(), exit_regression);
+}
+
+TEST_F(CompareFiles, JsonMatchesGolden) {
+  const CompareReport report = mixed_report();
+  expect_matches_golden(compare_json(report).dump(2) + "\n", "compare_ab.json");
+}
+
+TEST_F(CompareFiles, MarkdownMatchesGolden) {
+  const CompareReport report = mixed_report();
+  expect_matches_golden(compare_markdown(report), "compare_ab.md");
+}
+
+TEST_F(CompareFiles, TerminalTableMatchesGolden) {
+  const CompareReport report = mixed_report();
+  expect_matches_golden(compare_table(report), "compare_ab.txt");
+}
+
+TEST_F(CompareFiles, CrossEngineMarkdownMatchesGolden) {
+  const CompareReport report = compare_files(write(three_engines(), "engines.h5"), std::nullopt, "", {});
+  expect_matches_golden(compare_markdown(report), "compare_engines.md");
+}
+
+}  // namespace
+}  // namespace fxbench

@@ -1,0 +1,278 @@
+// Tests of `fx2d-bench report`: the refusals it makes before anything is drawn, and a report of a
+// small real run, sweep and comparison opened in headless Chromium, which must load every chart
+// and show every section. Each test process renders its own copy in a scratch directory (ctest runs
+// the tests as separate, possibly parallel, processes); the screenshot test alone writes the
+// artefacts, that report and Chromium's screenshot of it, to <build>/harness/tests/report_test_artefacts/,
+// and prints the screenshot's path.
+//
+// The Chromium tests skip, saying so, only when /usr/bin/chromium is not installed (Debian's
+// `chromium` package; ci/install-deps installs it).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <regex>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* chromium = "/usr/bin/chromium";
+
+struct Outcome {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream stream(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(stream), {}};
+}
+
+// Runs a shell command line; stderr goes through a file so that stdout and stderr stay apart.
+Outcome shell(const std::string& command, const fs::path& scratch) {
+  const fs::path err = scratch / "stderr.txt";
+  Outcome outcome;
+  FILE* pipe = popen((command + " 2>" + err.string()).c_str(), "r");
+  if (pipe == nullptr) return outcome;
+  char buffer[4096];
+  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) outcome.out.append(buffer, n);
+  const int status = pclose(pipe);
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  outcome.err = read_text(err);
+  return outcome;
+}
+
+std::string bench(const std::string& arguments) { return std::string(FX2D_BENCH_EXE) + " " + arguments; }
+
+// Chromium headless with nothing that reaches the network or a shared profile.
+std::string chromium_command(const fs::path& profile, const std::string& action, const fs::path& page) {
+  return std::string(chromium) +
+         " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run --disable-background-networking"
+         " --disable-component-update --disable-sync --user-data-dir=" +
+         profile.string() + " --window-size=1280,2000 --virtual-time-budget=5000 " + action + " file://" +
+         page.string();
+}
+
+// The `src` of every <img> of a page, in order.
+std::vector<std::string> image_sources(const std::string& html) {
+  const std::regex img(R"(<img[^>]*\ssrc="([^"]+)\")");
+  std::vector<std::string> sources;
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), img); it != std::sregex_iterator(); ++it)
+    sources.push_back((*it)[1]);
+  return sources;
+}
+
+std::string body_data(const std::string& dom, const std::string& name) {
+  const std::regex attribute("<body[^>]*\\sdata-" + name + "=\"([^\"]*)\"");
+  std::smatch match;
+  return std::regex_search(dom, match, attribute) ? match[1].str() : std::string("(absent)");
+}
+
+// Exit code 2 and exactly one line on stderr, prefixed with the program's name.
+void expect_one_line_input_error(const Outcome& outcome, const std::string& mentions) {
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_TRUE(outcome.err.starts_with("fx2d-bench: ")) << outcome.err;
+  EXPECT_EQ(std::count(outcome.err.begin(), outcome.err.end(), '\n'), 1) << outcome.err;
+  EXPECT_NE(outcome.err.find(mentions), std::string::npos) << outcome.err;
+}
+
+// One small run of every engine, a small sweep and the compare golden, rendered once for all tests.
+class ReportOfSmallRun : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    fs::create_directories(scratch());
+    const fs::path run = scratch() / "run.h5";
+    const fs::path sweep = scratch() / "sweep.h5";
+    setup_ = shell(bench("run pile --bodies 36 --steps 30 --repeats 2 --out " + run.string()), scratch());
+    if (setup_.exit_code != 0) return;
+    setup_ = shell(bench("sweep pile --bodies 36 --steps 30 --repeats 1 --fx2d-substeps 2,14 --fx2d-passes 1,4"
+                         " --box2d-velocity 2,8 --box2d-position 3 --ode-iterations 5,20 --out " +
+                         sweep.string()),
+                   scratch());
+    if (setup_.exit_code != 0) return;
+    report_ = shell(bench("report " + run.string() + " " + sweep.string() + " --compare-json " + compare_golden() +
+                          " -o " + page_dir().string()),
+                    scratch());
+  }
+
+  static void TearDownTestSuite() { fs::remove_all(scratch()); }
+
+  void SetUp() override {
+    ASSERT_EQ(setup_.exit_code, 0) << "could not make the inputs: " << setup_.err;
+    ASSERT_EQ(report_.exit_code, 0) << report_.err;
+  }
+
+  static fs::path scratch() { return fs::temp_directory_path() / ("fx2d_report_test_" + std::to_string(getpid())); }
+  static fs::path artefacts() { return REPORT_TEST_ARTEFACTS; }
+  static fs::path page_dir() { return scratch() / "report"; }
+  static fs::path index() { return page_dir() / "index.html"; }
+  static std::string compare_golden() { return std::string(FX2D_SOURCE_DIR) + "/goldens/compare_ab.json"; }
+
+  static void skip_without_chromium() {
+    if (access(chromium, X_OK) != 0) GTEST_SKIP() << chromium << " is not installed (apt-get install chromium)";
+  }
+
+  // The page as Chromium has it after load, when the inline check has run.
+  static const std::string& rendered_dom() {
+    static const std::string dom = [] {
+      return shell(chromium_command(scratch() / "chromium-profile", "--dump-dom", index()), scratch()).out;
+    }();
+    return dom;
+  }
+
+  static Outcome setup_;
+  static Outcome report_;
+};
+
+Outcome ReportOfSmallRun::setup_;
+Outcome ReportOfSmallRun::report_;
+
+TEST_F(ReportOfSmallRun, PrintsThePathOfItsIndexPage) {
+  EXPECT_EQ(report_.out, index().string() + "\n");
+  EXPECT_TRUE(fs::is_regular_file(index()));
+}
+
+// Phase split (the run), speed against accuracy (the sweep's one scene), A/B (the compare golden).
+TEST_F(ReportOfSmallRun, DrawsOneChartPerInputKindAsPngAndSvg) {
+  const std::vector<std::string> sources = image_sources(read_text(index()));
+  const std::set<std::string> expected{"phase_split.png", "speed_accuracy_pile_36.png", "ab_0.png"};
+  EXPECT_EQ(std::set<std::string>(sources.begin(), sources.end()), expected);
+  for (const std::string& source : sources) {
+    EXPECT_EQ(read_text(page_dir() / source).substr(0, 8), "\x89PNG\r\n\x1a\n") << source;
+    const fs::path svg = page_dir() / fs::path(source).replace_extension(".svg");
+    EXPECT_NE(read_text(svg).find("<svg"), std::string::npos) << svg;
+  }
+}
+
+// Viewable offline: nothing is fetched from elsewhere, every image is a relative path.
+TEST_F(ReportOfSmallRun, PageReferencesNothingOutsideItsDirectory) {
+  const std::string html = read_text(index());
+  EXPECT_EQ(html.find("src=\"http"), std::string::npos);
+  EXPECT_EQ(html.find("href=\"http"), std::string::npos);
+  EXPECT_EQ(html.find("<link"), std::string::npos);
+  EXPECT_EQ(html.find("@import"), std::string::npos);
+  for (const std::string& source : image_sources(html)) EXPECT_TRUE(fs::path(source).is_relative()) << source;
+}
+
+TEST_F(ReportOfSmallRun, EveryChartLoadsInHeadlessChromium) {
+  skip_without_chromium();
+  const std::string& dom = rendered_dom();
+  ASSERT_FALSE(dom.empty()) << "chromium --dump-dom printed nothing";
+  EXPECT_EQ(body_data(dom, "images-total"), "3");
+  EXPECT_EQ(body_data(dom, "images-loaded"), "3") << "broken: " << body_data(dom, "images-broken");
+}
+
+TEST_F(ReportOfSmallRun, ChromiumShowsEverySectionAndSaysWhatIsMissing) {
+  skip_without_chromium();
+  const std::string& dom = rendered_dom();
+  for (const char* heading : {"Runs", "Phase split", "Speed against accuracy", "A/B comparison", "Stability",
+                              "Nightly history", "Provenance"})
+    EXPECT_NE(dom.find(std::string("<h2>") + heading + "</h2>"), std::string::npos) << heading;
+  EXPECT_NE(dom.find("No stability file among the inputs"), std::string::npos);
+  EXPECT_NE(dom.find("No nightly history file among the inputs"), std::string::npos);
+  // One summary row per engine of the run: each engine's chip appears in the runs table.
+  for (const char* engine : {"fx2d", "box2d", "ode"})
+    EXPECT_NE(dom.find(std::string(">") + engine + "</span>"), std::string::npos) << engine;
+}
+
+TEST_F(ReportOfSmallRun, ScreenshotIsKeptAsArtefact) {
+  skip_without_chromium();
+  fs::remove_all(artefacts());
+  fs::create_directories(artefacts());
+  fs::copy(page_dir(), artefacts() / "report", fs::copy_options::recursive);
+  const fs::path screenshot = artefacts() / "screenshot.png";
+  shell(chromium_command(scratch() / "chromium-profile", "--screenshot=" + screenshot.string(),
+                         artefacts() / "report" / "index.html"),
+        scratch());
+  const std::string png = read_text(screenshot);
+  ASSERT_GE(png.size(), 24u) << screenshot;
+  ASSERT_EQ(png.substr(0, 8), "\x89PNG\r\n\x1a\n");
+  // IHDR's width, big-endian at byte 16: the window is 1280 pixels wide.
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned>(static_cast<unsigned char>(png[i])); };
+  EXPECT_EQ((byte(16) << 24) | (byte(17) << 16) | (byte(18) << 8) | byte(19), 1280u);
+  std::cout << "report screenshot: " << screenshot.string() << '\n';
+}
+
+TEST_F(ReportOfSmallRun, RefusesAnExistingReportWithoutForceAndReplacesItWithForce) {
+  const std::string again = "report " + (scratch() / "run.h5").string() + " -o " + page_dir().string();
+  expect_one_line_input_error(shell(bench(again), scratch()), "pass --force");
+  EXPECT_TRUE(fs::exists(page_dir() / "ab_0.png")) << "a refused report leaves the old one as it was";
+  const Outcome forced = shell(bench(again + " --force"), scratch());
+  ASSERT_EQ(forced.exit_code, 0) << forced.err;
+  EXPECT_EQ(image_sources(read_text(index())), std::vector<std::string>{"phase_split.png"});
+  EXPECT_FALSE(fs::exists(page_dir() / "ab_0.png")) << "a replaced report keeps none of the old one's files";
+}
+
+class ReportRefusals : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    scratch_ = fs::temp_directory_path() / ("fx2d_report_refusals_" + std::to_string(getpid()));
+    fs::create_directories(scratch_);
+  }
+  void TearDown() override { fs::remove_all(scratch_); }
+
+  fs::path write(const std::string& name, const std::string& text) const {
+    std::ofstream(scratch_ / name) << text;
+    return scratch_ / name;
+  }
+
+  fs::path scratch_;
+};
+
+TEST_F(ReportRefusals, FileThatIsNotHdf5IsNamedInOneLine) {
+  const fs::path text = write("notes.h5", "not HDF5");
+  expect_one_line_input_error(shell(bench("report " + text.string() + " -o " + (scratch_ / "out").string()), scratch_),
+                              text.string() + ": not an HDF5 file");
+  EXPECT_FALSE(fs::exists(scratch_ / "out"));
+}
+
+TEST_F(ReportRefusals, MissingFileIsNamedInOneLine) {
+  const fs::path missing = scratch_ / "absent.h5";
+  expect_one_line_input_error(shell(bench("report " + missing.string() + " -o " + (scratch_ / "out").string()), scratch_),
+                              missing.string() + ": no such file");
+}
+
+TEST_F(ReportRefusals, CompareJsonOfAnotherSchemaIsRefused) {
+  const fs::path json = write("summary.json", R"({"schema": "fx2d-bench.summary/1", "runs": []})");
+  expect_one_line_input_error(
+      shell(bench("report --compare-json " + json.string() + " -o " + (scratch_ / "out").string()), scratch_),
+      "fx2d-bench.compare/1");
+}
+
+TEST_F(ReportRefusals, DirectoryThatIsNotAReportIsNeverReplacedEvenWithForce) {
+  fs::create_directories(scratch_ / "mine");
+  write("mine/thesis.tex", "precious");
+  const std::string golden = std::string(FX2D_SOURCE_DIR) + "/goldens/compare_ab.json";
+  expect_one_line_input_error(
+      shell(bench("report --compare-json " + golden + " -o " + (scratch_ / "mine").string() + " --force"), scratch_),
+      "not a previous report");
+  EXPECT_EQ(read_text(scratch_ / "mine" / "thesis.tex"), "precious");
+}
+
+// The renderer's own check: a module that cannot be imported is reported with the Debian packages
+// that provide it. A stand-in h5py beside a copy of the script shadows the real one.
+TEST_F(ReportRefusals, MissingPythonModuleNamesTheDebianPackages) {
+  fs::create_directories(scratch_ / "reports");
+  fs::copy_file(fs::path(FX2D_SOURCE_DIR) / "reports" / "render_report.py", scratch_ / "reports" / "render_report.py");
+  write("reports/h5py.py", "raise ImportError('simulated for report_test', name='h5py')\n");
+  const std::string golden = std::string(FX2D_SOURCE_DIR) + "/goldens/compare_ab.json";
+  const Outcome outcome = shell("FX2D_REPORTS_DIR=" + (scratch_ / "reports").string() + " " +
+                                    bench("report --compare-json " + golden + " -o " + (scratch_ / "out").string()),
+                                scratch_);
+  expect_one_line_input_error(outcome, "python3-h5py");
+  EXPECT_NE(outcome.err.find("'h5py'"), std::string::npos) << outcome.err;
+  EXPECT_FALSE(fs::exists(scratch_ / "out"));
+}
+
+}  // namespace

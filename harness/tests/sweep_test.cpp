@@ -1,0 +1,107 @@
+// End-to-end test of `fx2d-bench sweep`: a 2-point grid on the smallest contact scene, checked
+// through --json (schema, the default added to the grid and marked, fronts consistent with the
+// points' flags) and through the /sweep table of the --out file.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace fxbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code = -1;
+  std::string out;
+};
+
+Outcome run_bench(const std::string& arguments) {
+  const std::string command = std::string(FX2D_BENCH_EXE) + " " + arguments + " 2>/dev/null";
+  FILE* pipe = popen(command.c_str(), "r");
+  Outcome outcome;
+  if (pipe == nullptr) return outcome;
+  char buffer[4096];
+  std::size_t read = 0;
+  while ((read = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) outcome.out.append(buffer, read);
+  const int status = pclose(pipe);
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return outcome;
+}
+
+long rows_of(hid_t file, const char* dataset_path) {
+  const hid_t dataset = H5Dopen2(file, dataset_path, H5P_DEFAULT);
+  if (dataset < 0) return -1;
+  const hid_t space = H5Dget_space(dataset);
+  const long rows = H5Sget_simple_extent_npoints(space);
+  H5Sclose(space);
+  H5Dclose(dataset);
+  return rows;
+}
+
+TEST(SweepCommand, TwoPointGridGetsTheDefaultAddedAndConsistentFronts) {
+  const fs::path out = fs::temp_directory_path() / ("sweep_test_" + std::to_string(getpid()) + ".h5");
+  const std::string scene = std::string(FX2D_SOURCE_DIR) + "/scenes/tests/single_box_on_ground.json";
+  const Outcome outcome = run_bench("sweep " + scene + " --engine fx2d --fx2d-substeps 2,4 --fx2d-passes 1 --repeats 2 --json --out " +
+                                    out.string() + " --force");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.out;
+  const auto json = nlohmann::json::parse(outcome.out);
+  EXPECT_EQ(json["schema"], "fx2d-bench.sweep/1");
+
+  // substeps 2 and 4 at 1 pass, then the scene's own 14 x 4, which the grid lacks.
+  const auto& points = json["points"];
+  ASSERT_EQ(points.size(), 3u);
+  EXPECT_EQ(points[0]["settings"]["substeps"], 2);
+  EXPECT_EQ(points[1]["settings"]["substeps"], 4);
+  EXPECT_EQ(points[2]["settings"]["substeps"], 14);
+  EXPECT_EQ(points[2]["settings"]["velocity_passes"], 4);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    EXPECT_EQ(points[i]["default"], i == 2);
+    EXPECT_EQ(points[i]["primary_metric"], "displacement");
+    EXPECT_EQ(points[i]["primary_error"], points[i]["accuracy"]["max_displacement"]);
+    const auto& ms = points[i]["ms_per_step"];
+    EXPECT_LE(ms["ci_low"].get<double>(), ms["median"].get<double>());
+    EXPECT_LE(ms["median"].get<double>(), ms["ci_high"].get<double>());
+    // A point is on the front exactly when nothing dominates it.
+    EXPECT_EQ(points[i]["on_front"].get<bool>(), points[i]["dominated_by"].is_null());
+  }
+
+  // One front for the one engine; its members are exactly the points flagged on_front, fastest
+  // first, and each is more accurate than the one before.
+  ASSERT_EQ(json["fronts"].size(), 1u);
+  const auto& front = json["fronts"][0]["points"];
+  std::size_t flagged = 0;
+  for (const auto& point : points) flagged += point["on_front"].get<bool>() ? 1 : 0;
+  ASSERT_EQ(front.size(), flagged);
+  for (std::size_t k = 1; k < front.size(); ++k) {
+    const auto& before = points[front[k - 1].get<std::size_t>()];
+    const auto& after = points[front[k].get<std::size_t>()];
+    EXPECT_LE(before["ms_per_simulated_s"].get<double>(), after["ms_per_simulated_s"].get<double>());
+    EXPECT_GT(before["primary_error"].get<double>(), after["primary_error"].get<double>());
+  }
+
+  const hid_t file = H5Fopen(out.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  EXPECT_EQ(rows_of(file, "/sweep/ms_per_step"), 3);
+  EXPECT_EQ(rows_of(file, "/sweep/fx2d_substeps"), 3);
+  EXPECT_EQ(rows_of(file, "/runs/2/wall_ms"), 2 * 60);  // repeats x steps of the default's run
+  EXPECT_GT(H5Aexists(file, "schema"), 0);
+  H5Fclose(file);
+  fs::remove(out);
+}
+
+TEST(SweepCommand, RefusesAnExistingOutWithoutForce) {
+  const fs::path out = fs::temp_directory_path() / ("sweep_test_exists_" + std::to_string(getpid()) + ".h5");
+  { std::FILE* file = std::fopen(out.string().c_str(), "w"); std::fclose(file); }
+  const Outcome outcome = run_bench("sweep stacks --bodies 10 --engine fx2d --fx2d-substeps 1 --fx2d-passes 1 --out " + out.string());
+  EXPECT_EQ(outcome.exit_code, 2);
+  EXPECT_EQ(fs::file_size(out), 0u);
+  fs::remove(out);
+}
+
+}  // namespace
+}  // namespace fxbench

@@ -1,0 +1,456 @@
+#!/usr/bin/python3
+"""Renders fx2d-bench's files into one HTML report: `DIR/index.html` with its charts beside it.
+
+    /usr/bin/python3 reports/render_report.py FILE.h5 [FILE.h5 ...] [--compare-json FILE] -o DIR
+
+`fx2d-bench report` runs this; it may also be run by hand. Reads run, sweep, stability and nightly
+history files (harness/RESULTS_FORMAT.md) and the JSON of `fx2d-bench compare --json`.
+
+Invariant: the page is self-contained and viewable offline: inline CSS, no scripts but the one
+inline check that records whether every image loaded (body data-images-loaded/-total, read by
+harness/tests/report_test.cpp), images by relative path. Every section is always present; one
+without data says what input would fill it. Exit status: 0 done, 2 an input it cannot read,
+3 a Python package missing, 1 anything else; every failure is one line on stderr.
+"""
+
+import sys
+
+try:
+    import h5py  # noqa: F401  (checked here so a missing package is named before anything runs)
+    import matplotlib  # noqa: F401
+    import numpy  # noqa: F401
+except ImportError as missing:
+    print(f"render_report.py: Python module '{missing.name}' is missing; install Debian's "
+          "python3-h5py and python3-matplotlib (apt-get install python3-h5py python3-matplotlib)", file=sys.stderr)
+    sys.exit(3)
+
+import argparse  # noqa: E402
+import datetime  # noqa: E402
+import html  # noqa: E402
+import json  # noqa: E402
+import math  # noqa: E402
+import os  # noqa: E402
+import textwrap  # noqa: E402
+
+import charts  # noqa: E402
+import report_data  # noqa: E402
+from report_data import InputProblem  # noqa: E402
+
+SECTIONS = [
+    ("runs", "Runs"),
+    ("phases", "Phase split"),
+    ("speed-accuracy", "Speed against accuracy"),
+    ("ab", "A/B comparison"),
+    ("stability", "Stability"),
+    ("history", "Nightly history"),
+    ("provenance", "Provenance"),
+]
+
+ACCURACY_NOTE = ("Accuracy is the worst over the sampled steps of the first repeat (kinetic energy: the last "
+                 "sample); the scene's primary metric is in bold.")
+
+esc = html.escape
+
+
+# --- small HTML pieces ----------------------------------------------------------------------------
+
+def chip(engine):
+    colour = charts.engine_colour(engine)
+    return (f'<span class="chip" style="background:{charts.lighten(colour, 0.82)};color:{colour};'
+            f'border-color:{colour}">{esc(engine)}</span>')
+
+
+def figure(name, caption):
+    return (f'<figure><img src="{name}.png" alt="{esc(caption)}">'
+            f'<figcaption>{esc(caption)} <a href="{name}.svg">SVG</a></figcaption></figure>')
+
+
+def note(text):
+    return f'<p class="note">{text}</p>'
+
+
+def table(header, rows, classes=""):
+    """Rows are lists of cells, or a string: a heading row across the whole table."""
+    head = "".join(f"<th>{h}</th>" for h in header)
+    body = "".join(f'<tr class="group"><td colspan="{len(header)}">{row}</td></tr>' if isinstance(row, str) else
+                   "<tr>" + "".join(f"<td>{cell}</td>" for cell in row) + "</tr>" for row in rows)
+    return f'<div class="scroll"><table class="{classes}"><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>'
+
+
+def number(value, digits=3):
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "–"
+    return f"{value:.{digits}g}"
+
+
+# --- sections -------------------------------------------------------------------------------------
+
+def runs_section(files):
+    runs = [run for f in files for run in f.runs]
+    if not runs:
+        return note("No run file among the inputs: <code>fx2d-bench run SCENE --out run.h5</code> makes one.")
+    rows = []
+    for f in files:
+        if f.runs:
+            rows.append(file_heading(f))
+        rows.extend(run_row(run) for run in f.runs)
+    header = ["engine", "version", "scene", "bodies", "steps × repeats", "ms/step median [min–max]",
+              "max pen. mm", "max disp. m", "lateral drift m", "final KE J", "escaped", "NaN", "state hash"]
+    return table(header, rows, "runs") + note(
+        ACCURACY_NOTE + " Timing: a repeat's figure is its mean per step; median, min and max are across repeats. "
+        "Hover an engine version for its solver settings.")
+
+
+def file_heading(f):
+    p = f.provenance
+    return (f"<b>{esc(f.label)}</b> · {esc(p.get('hostname', ''))} ({esc(p.get('cpu_model', ''))}) · "
+            f"{esc(p.get('compiler', ''))} {esc(p.get('build_type', ''))} <code>{esc(p.get('build_flags', ''))}</code>"
+            f" · {esc(p.get('date_utc', ''))}")
+
+
+def run_row(run):
+    worst = run.worst
+    primary = {"penetration": "max_penetration", "displacement": "max_displacement"}.get(run.primary_metric)
+
+    def figure_of(name, scale, digits=3):
+        text = number(worst.get(name, math.nan) * scale, digits)
+        return f"<b>{text}</b>" if name == primary else text
+
+    hash_cell = f'<code title="{esc(run.state_hash)}">{esc(run.state_hash[:8])}</code>'
+    if not run.deterministic:
+        hash_cell += ' <span class="warn" title="repeats ended in different states">varies</span>'
+    return [
+        chip(run.engine), f'<span title="{esc(run.settings)}">{esc(run.engine_version)}</span>',
+        esc(run.scene), str(run.bodies), f"{run.steps} × {run.repeats}",
+        f'<span class="num">{run.ms_median:.3f}</span> <span class="range">[{run.ms_min:.3f}–{run.ms_max:.3f}]</span>',
+        figure_of("max_penetration", 1e3), figure_of("max_displacement", 1.0),
+        figure_of("max_lateral_drift", 1.0), number(worst.get("kinetic_energy", math.nan)),
+        str(int(worst.get("escaped", 0))), str(int(worst.get("nan", 0))), hash_cell,
+    ]
+
+
+def phases_section(files, out_dir):
+    runs = [run for f in files for run in f.runs]
+    if not runs:
+        return note("No run file among the inputs, so no phase split.")
+    seen = {}
+    for run in runs:
+        seen.setdefault((run.engine, run.scene, run.bodies), set()).add(run.source)
+
+    def bar_label(run):
+        label = f"{run.scene} · {run.bodies}"
+        return label + f"\n{run.source}" if len(seen[(run.engine, run.scene, run.bodies)]) > 1 else label
+
+    name = charts.phase_split(runs, bar_label, out_dir)
+    return figure(name, "Median wall time per step in each of the engine's own phases, per scene "
+                        "(scene · bodies). An engine that reports no phases (ODE) shows its total; "
+                        "time a step spends outside every phase is shown hatched grey.")
+
+
+def speed_accuracy_section(files, out_dir):
+    tables = [f.sweep for f in files if f.sweep is not None and len(f.sweep)]
+    if not tables:
+        return note("No sweep file among the inputs: <code>fx2d-bench sweep SCENE --out sweep.h5</code> makes one.")
+    parts = []
+    standing = []
+    for (scene, bodies), entries in charts.sweep_groups(tables).items():
+        name = charts.speed_accuracy(scene, bodies, entries, out_dir)
+        parts.append(figure(name, f"{scene}, {bodies} bodies: every setting tried; lines are each engine's Pareto "
+                                  "front (fastest setting for each accuracy level), stars the scene's default settings."))
+        for table_, rows in entries:
+            standing.extend(default_standing(table_, rows))
+    text = '<div class="grid">' + "".join(parts) + "</div>"
+    if standing:
+        text += "<h3>Where each default stands</h3>" + table(
+            ["scene", "bodies", "engine", "default settings", "ms/step", "error mm", "on its front?"], standing)
+    return text
+
+
+def default_standing(sweep, rows):
+    c = sweep.columns
+    result = []
+    for r in rows:
+        if not c["is_default"][r]:
+            continue
+        if c["on_front"][r]:
+            where = f'<span class="good">on it, #{int(c["front_rank"][r]) + 1} from the fastest</span>'
+        else:
+            better = int(c["dominated_by"][r])
+            where = (f'<span class="warn">off it</span>: {esc(c["settings"][better])} is at least as accurate at '
+                     f'{100 * c["ms_per_simulated_s"][better] / c["ms_per_simulated_s"][r]:.0f}% of the cost')
+        result.append([esc(c["scene"][r]), str(int(c["bodies"][r])), chip(c["engine"][r]), esc(c["settings"][r]),
+                       f'{c["ms_per_step"][r]:.3f}', number(c["primary_error"][r] * 1e3), where])
+    return result
+
+
+def ab_section(compare_reports, out_dir):
+    if not compare_reports:
+        return note("No comparison given: pass <code>--compare-json FILE</code> with the output of "
+                    "<code>fx2d-bench compare A.h5 B.h5 --json</code>.")
+    parts = []
+    for index, (path, report) in enumerate(compare_reports):
+        rows = [row for row in report["rows"] if row["metric"] != "cycles_per_step"]
+        cross = report.get("mode") == "cross-engine"
+
+        def row_label(row, cross=cross):
+            who = f"{row['engine']} / {row['against']}" if cross else row["engine"]
+            return f"{who} · {row['scene']} · {row['bodies']} · {row['metric'].removeprefix('phase:')}"
+
+        name = charts.ab_forest(report, rows, row_label, out_dir, f"ab_{index}")
+        parts.append(f"<h3>{esc(os.path.basename(path))}</h3>")
+        if name:
+            parts.append(figure(name, "Ratio of medians with its 95% bootstrap interval for the step time and each "
+                                      "phase (cycles per step, which mirrors the step time, is left out)."))
+        parts.append(table(["engine", "scene", "bodies", "metric", "A", "B", "ratio [95% CI]", "p", "verdict"],
+                           [[chip(r["engine"]), esc(r["scene"]), str(r["bodies"]), esc(r["metric"]), number(r["a"], 4),
+                             number(r["b"], 4), f'{r["ratio"]:.3f} [{r["ci_low"]:.3f}–{r["ci_high"]:.3f}]',
+                             number(r["p_value"], 2),
+                             f'<span class="verdict {esc(r["speed"].replace(" ", "-"))}">{esc(r["verdict"])}</span>'] for r in rows]))
+    return "".join(parts)
+
+
+def settings_text(settings_json):
+    try:
+        settings = json.loads(settings_json)
+    except ValueError:
+        return settings_json
+    return ", ".join(f"{key} {value}" for key, value in settings.items()) if isinstance(settings, dict) else settings_json
+
+
+def _search_score(boundary, start, limit, geometric):
+    """Where the boundary lies in the searched range, 0 at the easiest value, 1 at the hardest; on
+    a log scale for a geometric search. The same number whichever way the test gets harder."""
+    position = (lambda v: math.log(v)) if geometric and min(boundary, start, limit) > 0 else (lambda v: v)
+    if position(limit) == position(start):
+        return 1.0
+    return min(max((position(boundary) - position(start)) / (position(limit) - position(start)), 0.0), 1.0)
+
+
+def stability_cells(tables):
+    """Heat-map rows (engine, settings), columns (tests) and cells (score, text): each boundary, the
+    hardest value that passed, scored by where it lies in its test's searched range."""
+    rows, tests, cells = [], [], {}
+    for t in tables:
+        c = t.columns
+        for i in range(len(t)):
+            row = (c["engine"][i], f'{c["engine"][i]}\n' + textwrap.fill(settings_text(c["settings"][i]), 40))
+            units = f' ({c["units"][i]})' if c["units"][i] else ""
+            better = "higher" if c["harder"][i] == "increasing" else "lower"
+            test = (c["test"][i], c["test"][i] + "\n" + textwrap.fill(f"{c['parameter'][i]}{units}", 18)
+                    + f"\n{better} is better")
+            if row not in rows:
+                rows.append(row)
+            if test not in tests:
+                tests.append(test)
+            boundary = float(c["last_pass"][i])
+            if c["outcome"][i] == "fails_at_start" or not math.isfinite(boundary):
+                cells[(row, test)] = (0.0, "fails at start")
+                continue
+            score = _search_score(boundary, float(c["start"][i]), float(c["limit"][i]), c["scale"][i] == "geometric")
+            text = f"{'≥ ' if c['outcome'][i] == 'holds_to_limit' else ''}{boundary:.3g}"
+            cells[(row, test)] = (score, text)
+    return rows, tests, cells
+
+
+def stability_section(files, out_dir):
+    tables = [f.stability[""] for f in files if "" in f.stability]
+    if not tables:
+        return note("No stability file among the inputs: <code>fx2d-bench stability --out stability.h5</code> "
+                    "makes one.")
+    rows, tests, cells = stability_cells(tables)
+    name = charts.stability_heatmap(rows, tests, cells, out_dir)
+    failures = []
+    for t in tables:
+        c = t.columns
+        for i in range(len(t)):
+            failures.append([chip(c["engine"][i]), esc(c["test"][i]), esc(c["outcome"][i].replace("_", " ")),
+                             number(float(c["last_pass"][i])), number(float(c["first_fail"][i])),
+                             esc(c["failure"][i])])
+    quick = any(int(t.attributes.get("quick", 0)) for t in tables)
+    return (figure(name, "Each cell is the hardest stress value that still passed (≥: held up to the search "
+                         "limit); its colour is where that lies in the test's searched range, from the easiest "
+                         "value (0) to the hardest (1), on a log scale for a geometric search.")
+            + (note("Searched with <code>--quick</code>: limits are lower than the full suite's.") if quick else "")
+            + "<details><summary>Why each first failed</summary>"
+            + table(["engine", "test", "outcome", "last pass", "first fail", "failure"], failures) + "</details>")
+
+
+def history_section(files, out_dir):
+    tables = [(f, t) for f in files for t in f.history.values()]
+    if not tables:
+        return note("No nightly history file among the inputs (a file with a <code>/history</code> group); "
+                    "this section is left empty.")
+    series, unreadable = history_series(tables)
+    if not series:
+        return note("The history file's <code>/history</code> layout is not one this report reads: "
+                    + esc("; ".join(unreadable)))
+    name = charts.history_trend(series, "night (date of the run, UTC)", "median wall time per step (ms)", out_dir)
+    return figure(name, "Nightly median step time per engine and scene, with the accepted baseline and the "
+                        "steps the nightly job detected.")
+
+
+def _history_x(values):
+    try:
+        return [datetime.datetime.fromisoformat(str(v).replace("Z", "+00:00")) for v in values]
+    except ValueError:
+        return list(range(len(values)))
+
+
+def history_series(tables):
+    """Reads a history table by its column names (the /history layout is not fixed yet):
+    x from date_utc/date, y from ms_per_step/median_ms/value, optional baseline and step flags,
+    one series per (engine, scene, bodies)."""
+    series, unreadable = [], []
+    for f, t in tables:
+        y = t.get("ms_per_step", "median_ms", "value")
+        x = t.get("date_utc", "date", "night")
+        if y is None or x is None:
+            unreadable.append(f"{f.label}: columns {', '.join(t.columns)}")
+            continue
+        baseline = t.get("baseline_ms_per_step", "baseline_ms", "baseline")
+        step = t.get("step_detected", "is_step", "step")
+        keys = [t.get(name) for name in ("engine", "scene", "bodies")]
+        identity = [tuple(str(k[i]) for k in keys if k is not None) for i in range(len(t))]
+        for key in dict.fromkeys(identity):
+            rows = [i for i in range(len(t)) if identity[i] == key]
+            xs = _history_x([x[i] for i in rows])
+            series.append((" · ".join(key) or f.label, key[0] if key else "fx2d", xs, [float(y[i]) for i in rows],
+                           [float(baseline[i]) for i in rows] if baseline is not None else None,
+                           [n for n, i in enumerate(rows) if step is not None and step[i]]))
+    return series, unreadable
+
+
+def provenance_section(files):
+    rows = []
+    for f in files:
+        kind = ("sweep" if f.sweep is not None else "stability" if f.stability else
+                "history" if f.history else "run")
+        p = f.provenance
+        rows.append([esc(f.label), kind, esc(f"{p.get('fx2d_version', '')} ({p.get('fx2d_git_revision', '')})"),
+                     esc(p.get("build_type", "")), esc(p.get("compiler", "")), f"<code>{esc(p.get('build_flags', ''))}</code>",
+                     esc(p.get("cpu_model", "")), esc(p.get("kernel", "")), esc(p.get("hostname", "")),
+                     esc(p.get("date_utc", "")), f"<code>{esc(p.get('command_line', ''))}</code>"])
+    return table(["file", "kind", "fx2d", "build", "compiler", "flags", "CPU", "kernel", "machine", "date (UTC)",
+                  "command"], rows, "provenance")
+
+
+# --- the page -------------------------------------------------------------------------------------
+
+STYLE = """
+:root { --ink:#1d2330; --muted:#5b6475; --line:#e2e6ee; --bg:#f6f7fa; --card:#ffffff; --accent:#1f5fbf; }
+* { box-sizing: border-box; }
+body { margin:0; font: 15px/1.5 system-ui, -apple-system, "Segoe UI", "DejaVu Sans", sans-serif;
+       color:var(--ink); background:var(--bg); }
+header { background:#1d2330; color:#fff; padding:22px 36px 18px; }
+header h1 { margin:0 0 4px; font-size:26px; letter-spacing:.2px; }
+header p { margin:2px 0; color:#c8cfdc; font-size:13.5px; }
+header code { color:#fff; }
+nav { position:sticky; top:0; z-index:2; background:#fff; border-bottom:1px solid var(--line);
+      padding:8px 36px; display:flex; flex-wrap:wrap; gap:6px 18px; font-size:14px; }
+nav a { color:var(--accent); text-decoration:none; font-weight:600; }
+main { padding:8px 36px 40px; max-width:1500px; }
+section { background:var(--card); border:1px solid var(--line); border-radius:10px; padding:6px 22px 18px;
+          margin:18px 0; box-shadow:0 1px 2px rgba(20,30,50,.04); }
+h2 { font-size:20px; margin:14px 0 10px; border-bottom:2px solid var(--line); padding-bottom:6px; }
+h3 { font-size:16px; margin:18px 0 8px; }
+figure { margin:10px 0; }
+figure img { max-width:100%; height:auto; border:1px solid var(--line); border-radius:6px; background:#fff; }
+figcaption { color:var(--muted); font-size:13px; margin-top:4px; }
+.grid { display:grid; grid-template-columns:repeat(auto-fit, minmax(560px, 1fr)); gap:12px 20px; }
+.scroll { overflow-x:auto; }
+table { border-collapse:collapse; font-size:13px; margin:8px 0; }
+th, td { padding:5px 9px; border-bottom:1px solid var(--line); text-align:left; vertical-align:top; }
+th { background:#f0f2f7; font-weight:600; white-space:nowrap; position:sticky; top:0; }
+tbody tr:nth-child(even) { background:#fafbfd; }
+table.runs td { white-space:nowrap; }
+table.provenance td { min-width:80px; }
+table.provenance td code { white-space:normal; word-break:break-all; display:block; min-width:240px; }
+.num { font-variant-numeric: tabular-nums; font-weight:600; }
+.range { color:var(--muted); font-size:12px; }
+tr.group td { background:#e9edf5; font-size:12.5px; color:var(--ink); white-space:normal; padding-top:8px; }
+tr.group code { font-size:11.5px; color:var(--muted); }
+.chip { display:inline-block; padding:0 8px; border:1px solid; border-radius:10px; font-weight:600; font-size:12.5px; }
+.note { color:var(--muted); font-size:13.5px; }
+.warn { color:#b03a2e; font-weight:600; }
+.good { color:#1e7b47; font-weight:600; }
+.verdict { font-weight:700; }
+.verdict.slower { color:#c0392b; } .verdict.faster { color:#1e7b47; }
+.verdict.inconclusive { color:#a07800; } .verdict.no-change { color:#5b6475; }
+details { margin:8px 0; } summary { cursor:pointer; color:var(--accent); font-weight:600; }
+code { font-family: "DejaVu Sans Mono", monospace; font-size:12.5px; }
+"""
+
+IMAGE_CHECK = """
+window.addEventListener("load", function () {
+  var images = Array.prototype.slice.call(document.images);
+  var broken = images.filter(function (image) { return !(image.complete && image.naturalWidth > 0); });
+  document.body.dataset.imagesTotal = String(images.length);
+  document.body.dataset.imagesLoaded = String(images.length - broken.length);
+  document.body.dataset.imagesBroken = broken.map(function (image) { return image.getAttribute("src"); }).join(" ");
+});
+"""
+
+
+def page(files, compare_paths, bodies):
+    inputs = ", ".join(f"<code>{esc(f.label)}</code>" for f in files)
+    inputs += "".join(f", <code>{esc(os.path.basename(p))}</code>" for p in compare_paths)
+    generated = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    nav = "".join(f'<a href="#{key}">{title}</a>' for key, title in SECTIONS)
+    sections = "".join(f'<section id="{key}"><h2>{title}</h2>{bodies[key]}</section>' for key, title in SECTIONS)
+    legend = " ".join(chip(engine) for engine in ("fx2d", "box2d", "ode"))
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>fx2d-bench report</title>
+<style>{STYLE}</style>
+</head><body>
+<header><h1>fx2d-bench report</h1>
+<p>Fx2D against Box2D and ODE: speed, accuracy and stability. Generated {generated} from {inputs}.</p>
+<p>Engines: {legend}</p></header>
+<nav>{nav}</nav>
+<main>{sections}</main>
+<script>{IMAGE_CHECK}</script>
+</body></html>
+"""
+
+
+def render(arguments):
+    labels = report_data.unique_labels(arguments.files)
+    files = [report_data.read_h5(path, label) for path, label in zip(arguments.files, labels)]
+    compare_reports = [(path, report_data.read_compare_json(path)) for path in arguments.compare_json]
+    out_dir = arguments.output
+    os.makedirs(out_dir, exist_ok=True)
+    bodies = {
+        "runs": runs_section(files),
+        "phases": phases_section(files, out_dir),
+        "speed-accuracy": speed_accuracy_section(files, out_dir),
+        "ab": ab_section(compare_reports, out_dir),
+        "stability": stability_section(files, out_dir),
+        "history": history_section(files, out_dir),
+        "provenance": provenance_section(files),
+    }
+    with open(os.path.join(out_dir, "index.html"), "w", encoding="utf-8") as stream:
+        stream.write(page(files, arguments.compare_json, bodies))
+
+
+def main():
+    parser = argparse.ArgumentParser(description="Render fx2d-bench files into an HTML report")
+    parser.add_argument("files", nargs="*", help="run, sweep, stability or history HDF5 files")
+    parser.add_argument("--compare-json", action="append", default=[], help="fx2d-bench compare --json output")
+    parser.add_argument("-o", "--output", required=True, help="directory to write index.html and charts into")
+    arguments = parser.parse_args()
+    if not arguments.files and not arguments.compare_json:
+        parser.error("nothing to report: give at least one HDF5 file or --compare-json")
+    try:
+        render(arguments)
+    except InputProblem as problem:
+        print(f"render_report.py: {problem}", file=sys.stderr)
+        return 2
+    except Exception as error:  # one line for the CLI, whatever broke
+        print(f"render_report.py: internal error: {type(error).__name__}: {error}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

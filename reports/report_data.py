@@ -1,0 +1,211 @@
+"""Reads every file fx2d-bench writes into plain Python records for the report.
+
+Invariant: the aggregates here follow the harness's own rules (harness/summary.h), so a number on
+the page is the number `fx2d-bench run` prints: a repeat's figure is its mean per step, medians
+and extremes are across repeats, accuracy is the worst over the sampled steps of the first repeat
+(kinetic energy: the last sample). A file's runs are "runs" in the report only when the file is a
+plain run file; the runs inside a sweep or stability file are the raw material of those tables
+and are shown through them. Nothing here draws or writes.
+"""
+
+from dataclasses import dataclass, field
+import json
+
+import h5py
+import numpy as np
+
+RESULTS_SCHEMA = "fx2d-bench.results/1"
+COMPARE_SCHEMA = "fx2d-bench.compare/1"
+HISTORY_SCHEMA_PREFIX = "fx2d-bench.history/"
+
+PROVENANCE_FIELDS = ("fx2d_version", "fx2d_git_revision", "build_type", "build_flags", "compiler",
+                     "cpu_model", "kernel", "hostname", "date_utc", "command_line")
+
+
+class InputProblem(Exception):
+    """A file the report cannot take; the message is one line, fit to print as is."""
+
+
+@dataclass
+class Run:
+    source: str            # the file's label on the page
+    engine: str
+    engine_version: str
+    settings: str
+    scene: str
+    bodies: int
+    steps: int
+    repeats: int
+    ms_median: float
+    ms_min: float
+    ms_max: float
+    phases: list           # [(name, median ms per step)], the engine's order; empty for none
+    worst: dict            # accuracy field -> worst value
+    primary_metric: str
+    state_hash: str
+    deterministic: bool
+
+
+@dataclass
+class Table:
+    """A group of equal-length column datasets, as harness/h5_tables.h writes them."""
+    attributes: dict
+    columns: dict          # name -> numpy array (strings decoded)
+    units: dict            # name -> units string
+
+    def __len__(self):
+        return len(next(iter(self.columns.values()))) if self.columns else 0
+
+    def get(self, *names, default=None):
+        """The first column present among `names`, else `default`."""
+        for name in names:
+            if name in self.columns:
+                return self.columns[name]
+        return default
+
+
+@dataclass
+class InputFile:
+    path: str
+    label: str
+    schema: str
+    provenance: dict
+    runs: list = field(default_factory=list)
+    sweep: Table = None
+    stability: dict = field(default_factory=dict)   # table name -> Table, "" for /stability itself
+    history: dict = field(default_factory=dict)     # same, for /history
+
+
+def _text(value):
+    if isinstance(value, bytes):
+        return value.decode("utf-8")
+    if isinstance(value, np.ndarray) and value.shape == ():
+        return _text(value[()])
+    return str(value)
+
+
+def _per_repeat_means(samples, repeats, steps):
+    """Each repeat's mean per step of an [R x S] (or flat R*S) array."""
+    return np.asarray(samples, dtype=float).reshape(repeats, steps).mean(axis=1)
+
+
+def _worst(accuracy):
+    if accuracy is None or len(accuracy) == 0:
+        return {}
+    worst = {name: float(np.max(accuracy[name])) for name in accuracy.dtype.names if name != "step"}
+    worst["kinetic_energy"] = float(accuracy["kinetic_energy"][-1])
+    return worst
+
+
+def _read_run(group, label, primary_metrics):
+    attrs = group.attrs
+    repeats, steps = int(attrs["repeats"]), int(attrs["steps"])
+    repeat_ms = _per_repeat_means(group["wall_ms"][()], repeats, steps)
+    phases = []
+    if "phase_ms" in group:
+        names = [_text(name) for name in group["phase_ms"].attrs["phase_names"]]
+        phase_ms = np.asarray(group["phase_ms"][()], dtype=float).reshape(repeats, steps, len(names))
+        phases = [(name, float(np.median(phase_ms[:, :, p].mean(axis=1)))) for p, name in enumerate(names)]
+    scene_hash = _text(attrs["scene_hash"])
+    return Run(
+        source=label,
+        engine=_text(attrs["engine"]),
+        engine_version=_text(attrs["engine_version"]),
+        settings=_text(attrs["engine_settings"]),
+        scene=_text(attrs["scene"]),
+        bodies=int(attrs["bodies"]),
+        steps=steps,
+        repeats=repeats,
+        ms_median=float(np.median(repeat_ms)),
+        ms_min=float(np.min(repeat_ms)),
+        ms_max=float(np.max(repeat_ms)),
+        phases=phases,
+        worst=_worst(group["accuracy"][()] if "accuracy" in group else None),
+        primary_metric=primary_metrics.get(scene_hash, ""),
+        state_hash=_text(attrs["final_state_hash"]),
+        deterministic=bool(attrs["deterministic"]),
+    )
+
+
+def _numbered(group):
+    """The members of a numbered group (/runs, /scenes) in their order."""
+    return [group[key] for key in sorted(group.keys(), key=int)]
+
+
+def _read_table(group):
+    columns, units = {}, {}
+    for name, dataset in group.items():
+        if not isinstance(dataset, h5py.Dataset) or dataset.ndim != 1:
+            continue
+        if h5py.check_string_dtype(dataset.dtype) is not None:
+            columns[name] = np.array(dataset.asstr()[()], dtype=object)
+        else:
+            columns[name] = dataset[()]
+        units[name] = _text(dataset.attrs.get("units", ""))
+    lengths = {len(values) for values in columns.values()}
+    if len(lengths) > 1:
+        raise InputProblem(f"{group.file.filename}: {group.name}: columns differ in length")
+    return Table({key: _text(value) if not np.isscalar(value) or isinstance(value, (bytes, str)) else value
+                  for key, value in group.attrs.items()}, columns, units)
+
+
+def _read_tables(group):
+    """The table at `group` itself (key "") and at each subgroup (key: its name)."""
+    tables = {}
+    if any(isinstance(member, h5py.Dataset) for member in group.values()):
+        tables[""] = _read_table(group)
+    for name, member in group.items():
+        if isinstance(member, h5py.Group):
+            tables[name] = _read_table(member)
+    return tables
+
+
+def read_h5(path, label):
+    """One file of any kind fx2d-bench writes. Raises InputProblem."""
+    try:
+        with h5py.File(path, "r") as f:
+            schema = _text(f.attrs.get("schema", ""))
+            if schema != RESULTS_SCHEMA and not schema.startswith(HISTORY_SCHEMA_PREFIX):
+                raise InputProblem(f"{path}: schema '{schema}' is not one the report reads "
+                                   f"(expected {RESULTS_SCHEMA} or {HISTORY_SCHEMA_PREFIX}N)")
+            provenance = {name: _text(f.attrs[name]) for name in PROVENANCE_FIELDS if name in f.attrs}
+            loaded = InputFile(path, label, schema, provenance)
+            if "sweep" in f:
+                loaded.sweep = _read_table(f["sweep"])
+            if "stability" in f:
+                loaded.stability = _read_tables(f["stability"])
+            if "history" in f:
+                loaded.history = _read_tables(f["history"])
+            plain_run_file = loaded.sweep is None and not loaded.stability and not loaded.history
+            if plain_run_file and "runs" in f:
+                primary = {_text(s.attrs["hash"]): _text(s.attrs["primary_metric"]) for s in _numbered(f["scenes"])}
+                loaded.runs = [_read_run(run, label, primary) for run in _numbered(f["runs"])]
+            return loaded
+    except OSError as error:
+        raise InputProblem(f"{path}: cannot read as HDF5: {error}") from None
+    except KeyError as error:
+        raise InputProblem(f"{path}: missing member {error}") from None
+
+
+def read_compare_json(path):
+    """The JSON `fx2d-bench compare --json` prints. Raises InputProblem."""
+    try:
+        with open(path, encoding="utf-8") as stream:
+            report = json.load(stream)
+    except (OSError, ValueError) as error:
+        raise InputProblem(f"{path}: cannot read compare JSON: {error}") from None
+    if not isinstance(report, dict) or report.get("schema") != COMPARE_SCHEMA:
+        raise InputProblem(f"{path}: expected a {COMPARE_SCHEMA} object (fx2d-bench compare --json)")
+    return report
+
+
+def unique_labels(paths):
+    """Short names for the files: the base name, or as much of the path as tells them apart."""
+    parts = [path.split("/") for path in paths]
+    depth = 1
+    while depth < max(len(p) for p in parts):
+        labels = ["/".join(p[-depth:]) for p in parts]
+        if len(set(labels)) == len(labels):
+            return labels
+        depth += 1
+    return ["/".join(p) for p in parts]
