@@ -9,48 +9,12 @@
 #include <utility>
 
 #include "errors.h"
+#include "h5_types.h"
 #include "results_h5.h"
 
 namespace fxbench {
 namespace {
 
-// Owns one HDF5 identifier; a failed creation leaves it invalid.
-class Owned {
- public:
-  Owned(hid_t id, herr_t (*closer)(hid_t)) : id_(id), close_(closer) {}
-  Owned(Owned&& other) noexcept : id_(std::exchange(other.id_, -1)), close_(other.close_) {}
-  Owned(const Owned&) = delete;
-  Owned& operator=(const Owned&) = delete;
-  Owned& operator=(Owned&&) = delete;
-  ~Owned() {
-    if (id_ >= 0) close_(id_);
-  }
-  hid_t get() const { return id_; }
-  bool valid() const { return id_ >= 0; }
-  bool close() { return close_(std::exchange(id_, -1)) >= 0; }
-
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
-
-template <class T>
-struct Stored;
-template <>
-struct Stored<double> {
-  static hid_t file_type() { return H5T_IEEE_F64LE; }
-  static hid_t memory_type() { return H5T_NATIVE_DOUBLE; }
-};
-template <>
-struct Stored<std::int32_t> {
-  static hid_t file_type() { return H5T_STD_I32LE; }
-  static hid_t memory_type() { return H5T_NATIVE_INT32; }
-};
-template <>
-struct Stored<std::uint8_t> {
-  static hid_t file_type() { return H5T_STD_U8LE; }
-  static hid_t memory_type() { return H5T_NATIVE_UINT8; }
-};
 
 class TableAppender {
  public:
@@ -58,9 +22,9 @@ class TableAppender {
 
   void append(const H5Table& table) const {
     const std::size_t rows = row_count(table);
-    const Owned links(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+    const H5Handle links(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
     H5Pset_create_intermediate_group(links.get(), 1);
-    const Owned group(H5Gcreate2(file_, table.path.c_str(), links.get(), H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    const H5Handle group(H5Gcreate2(file_, table.path.c_str(), links.get(), H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     if (!group.valid()) fail(table.path);
     for (const auto& [attribute_name, value] : table.attributes) {
       const std::string& name = attribute_name;  // Clang 14 cannot capture a structured binding
@@ -86,8 +50,8 @@ class TableAppender {
     return rows;
   }
 
-  static Owned string_type() {
-    Owned type(H5Tcopy(H5T_C_S1), H5Tclose);
+  static H5Handle string_type() {
+    H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
     H5Tset_size(type.get(), H5T_VARIABLE);
     H5Tset_cset(type.get(), H5T_CSET_UTF8);
     return type;
@@ -95,27 +59,27 @@ class TableAppender {
 
   void raw_attribute(hid_t owner, const std::string& where, const std::string& name, hid_t file_type,
                      hid_t memory_type, const void* data) const {
-    const Owned space(H5Screate(H5S_SCALAR), H5Sclose);
-    const Owned created(H5Acreate2(owner, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+    const H5Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+    const H5Handle created(H5Acreate2(owner, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
     if (!created.valid() || H5Awrite(created.get(), memory_type, data) < 0) fail(where);
   }
 
   void attribute(hid_t owner, const std::string& where, const std::string& name, const std::string& value) const {
-    const Owned type = string_type();
+    const H5Handle type = string_type();
     const char* text = value.c_str();
     raw_attribute(owner, where, name, type.get(), type.get(), &text);
   }
 
   template <class T>
   void attribute(hid_t owner, const std::string& where, const std::string& name, T value) const {
-    raw_attribute(owner, where, name, Stored<T>::file_type(), Stored<T>::memory_type(), &value);
+    raw_attribute(owner, where, name, H5Stored<T>::file_type(), H5Stored<T>::memory_type(), &value);
   }
 
-  Owned dataset(hid_t group, const std::string& where, const std::string& name, hid_t file_type, hid_t memory_type,
+  H5Handle dataset(hid_t group, const std::string& where, const std::string& name, hid_t file_type, hid_t memory_type,
                 std::size_t rows, const void* data) const {
     const hsize_t extent = rows;
-    const Owned space(H5Screate_simple(1, &extent, nullptr), H5Sclose);
-    Owned created(H5Dcreate2(group, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+    const H5Handle space(H5Screate_simple(1, &extent, nullptr), H5Sclose);
+    H5Handle created(H5Dcreate2(group, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                   H5Dclose);
     // HDF5 refuses a null buffer even for zero rows, and an empty vector may give one.
     if (!created.valid() || (rows > 0 && H5Dwrite(created.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0))
@@ -128,15 +92,15 @@ class TableAppender {
     std::vector<const char*> texts;
     texts.reserve(values.size());
     for (const std::string& value : values) texts.push_back(value.c_str());
-    const Owned type = string_type();
+    const H5Handle type = string_type();
     dataset(group, where, column.name, type.get(), type.get(), rows, texts.data());
   }
 
   template <class T>
   void write_column(hid_t group, const std::string& where, const H5Column& column, const std::vector<T>& values,
                     std::size_t rows) const {
-    const Owned created =
-        dataset(group, where, column.name, Stored<T>::file_type(), Stored<T>::memory_type(), rows, values.data());
+    const H5Handle created =
+        dataset(group, where, column.name, H5Stored<T>::file_type(), H5Stored<T>::memory_type(), rows, values.data());
     attribute(created.get(), where + " attribute units", "units", column.units);
   }
 
@@ -170,7 +134,7 @@ void write_results_with_tables_h5(const ResultSet& results, std::span<const H5Ta
   try {
     write_results_h5(results, partial, true);
     const QuietErrors quiet;
-    Owned file(H5Fopen(partial.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    H5Handle file(H5Fopen(partial.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
     if (!file.valid()) throw std::runtime_error(path + ": could not reopen " + partial);
     const TableAppender appender(file.get(), path);
     for (const H5Table& table : tables) appender.append(table);

@@ -2,7 +2,7 @@
 //
 // Invariants: every attribute and dataset is named once, in the tables below, which both the
 // writer and the reader walk, so the two cannot disagree; every HDF5 identifier is owned by a
-// Handle and closed on every path; HDF5's automatic error printing is off for the whole of a
+// H5Handle and closed on every path; HDF5's automatic error printing is off for the whole of a
 // read or write, so failures reach the user only as our own one-line messages.
 #include "results_h5.h"
 
@@ -24,30 +24,11 @@
 #include <vector>
 
 #include "errors.h"
+#include "h5_types.h"
 
 namespace fxbench {
 namespace {
 
-// Owns one HDF5 identifier and closes it with the matching H5?close.
-class Handle {
- public:
-  Handle(hid_t id, herr_t (*closer)(hid_t)) : id_(id), close_(closer) {}
-  Handle(Handle&& other) noexcept : id_(std::exchange(other.id_, -1)), close_(other.close_) {}
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  Handle& operator=(Handle&&) = delete;
-  ~Handle() {
-    if (id_ >= 0) close_(id_);
-  }
-  hid_t get() const { return id_; }
-  bool valid() const { return id_ >= 0; }
-  // Closes now and says whether HDF5 succeeded: closing a file is where it is flushed.
-  bool close() { return close_(std::exchange(id_, -1)) >= 0; }
-
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
 
 // Turns HDF5's automatic error-stack printing off for its lifetime.
 class QuietHdf5Errors {
@@ -66,34 +47,6 @@ class QuietHdf5Errors {
 };
 
 static_assert(std::is_same_v<int, std::int32_t>, "the records' int fields are stored as int32");
-
-// How each C++ number type is stored (little-endian, fixed width) and held in memory.
-template <class T>
-struct Stored;
-template <>
-struct Stored<double> {
-  static hid_t file_type() { return H5T_IEEE_F64LE; }
-  static hid_t memory_type() { return H5T_NATIVE_DOUBLE; }
-  static constexpr H5T_class_t type_class = H5T_FLOAT;
-};
-template <>
-struct Stored<std::int32_t> {
-  static hid_t file_type() { return H5T_STD_I32LE; }
-  static hid_t memory_type() { return H5T_NATIVE_INT32; }
-  static constexpr H5T_class_t type_class = H5T_INTEGER;
-};
-template <>
-struct Stored<std::uint64_t> {
-  static hid_t file_type() { return H5T_STD_U64LE; }
-  static hid_t memory_type() { return H5T_NATIVE_UINT64; }
-  static constexpr H5T_class_t type_class = H5T_INTEGER;
-};
-template <>
-struct Stored<std::uint8_t> {
-  static hid_t file_type() { return H5T_STD_U8LE; }
-  static hid_t memory_type() { return H5T_NATIVE_UINT8; }
-  static constexpr H5T_class_t type_class = H5T_INTEGER;
-};
 
 template <class Record, class Field>
 struct Member {
@@ -172,14 +125,14 @@ const AccuracyField accuracy_fields[] = {
 
 // AccuracySample as HDF5 sees it: in memory at the struct's own offsets, in the file packed
 // little-endian.
-Handle accuracy_type(bool in_memory) {
-  Handle type(H5Tcreate(H5T_COMPOUND, sizeof(AccuracySample)), H5Tclose);
+H5Handle accuracy_type(bool in_memory) {
+  H5Handle type(H5Tcreate(H5T_COMPOUND, sizeof(AccuracySample)), H5Tclose);
   std::size_t packed_offset = 0;
   for (const AccuracyField& field : accuracy_fields) {
     const hid_t member =
         field.is_integer
-            ? (in_memory ? Stored<std::int32_t>::memory_type() : Stored<std::int32_t>::file_type())
-            : (in_memory ? Stored<double>::memory_type() : Stored<double>::file_type());
+            ? (in_memory ? H5Stored<std::int32_t>::memory_type() : H5Stored<std::int32_t>::file_type())
+            : (in_memory ? H5Stored<double>::memory_type() : H5Stored<double>::file_type());
     H5Tinsert(type.get(), field.name, in_memory ? field.offset : packed_offset, member);
     packed_offset += H5Tget_size(member);
   }
@@ -187,17 +140,17 @@ Handle accuracy_type(bool in_memory) {
   return type;
 }
 
-Handle utf8_string_type() {
-  Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+H5Handle utf8_string_type() {
+  H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
   H5Tset_size(type.get(), H5T_VARIABLE);
   H5Tset_cset(type.get(), H5T_CSET_UTF8);
   return type;
 }
 
 // An empty shape is a scalar.
-Handle space_of(const std::vector<hsize_t>& shape) {
-  if (shape.empty()) return Handle(H5Screate(H5S_SCALAR), H5Sclose);
-  return Handle(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), H5Sclose);
+H5Handle space_of(const std::vector<hsize_t>& shape) {
+  if (shape.empty()) return H5Handle(H5Screate(H5S_SCALAR), H5Sclose);
+  return H5Handle(H5Screate_simple(static_cast<int>(shape.size()), shape.data(), nullptr), H5Sclose);
 }
 
 std::size_t element_count(const std::vector<hsize_t>& shape) {
@@ -223,7 +176,7 @@ class ResultsWriter {
   explicit ResultsWriter(std::string path) : path_(std::move(path)) {}
 
   void write(const ResultSet& results, const std::string& file_path) const {
-    Handle file(H5Fcreate(file_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    H5Handle file(H5Fcreate(file_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
     if (!file.valid())
       throw InputError(path_ + ": cannot create " + file_path + "; is its directory there and writable?");
     write_provenance(file.get(), results.provenance);
@@ -239,42 +192,42 @@ class ResultsWriter {
     throw std::runtime_error(path_ + ": could not write " + what);
   }
 
-  Handle create_group(hid_t parent, const std::string& where, const std::string& name) const {
-    Handle group(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+  H5Handle create_group(hid_t parent, const std::string& where, const std::string& name) const {
+    H5Handle group(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     if (!group.valid()) fail(where + "/" + name);
     return group;
   }
 
   void attribute(hid_t owner, const std::string& where, const char* name, hid_t file_type, hid_t memory_type,
                  const std::vector<hsize_t>& shape, const void* data) const {
-    const Handle space = space_of(shape);
-    const Handle created(H5Acreate2(owner, name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+    const H5Handle space = space_of(shape);
+    const H5Handle created(H5Acreate2(owner, name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
     if (!created.valid() || H5Awrite(created.get(), memory_type, data) < 0)
       fail(where + " attribute " + name);
   }
 
   void string_attribute(hid_t owner, const std::string& where, const char* name,
                         const std::string& value) const {
-    const Handle type = utf8_string_type();
+    const H5Handle type = utf8_string_type();
     const char* text = value.c_str();
     attribute(owner, where, name, type.get(), type.get(), {}, &text);
   }
 
   void string_array_attribute(hid_t owner, const std::string& where, const char* name,
                               const std::vector<std::string>& values) const {
-    const Handle type = utf8_string_type();
+    const H5Handle type = utf8_string_type();
     attribute(owner, where, name, type.get(), type.get(), {values.size()}, c_strings(values).data());
   }
 
   template <class T>
   void number_attribute(hid_t owner, const std::string& where, const char* name, T value) const {
-    attribute(owner, where, name, Stored<T>::file_type(), Stored<T>::memory_type(), {}, &value);
+    attribute(owner, where, name, H5Stored<T>::file_type(), H5Stored<T>::memory_type(), {}, &value);
   }
 
-  Handle dataset(hid_t group, const std::string& where, const char* name, hid_t file_type, hid_t memory_type,
+  H5Handle dataset(hid_t group, const std::string& where, const char* name, hid_t file_type, hid_t memory_type,
                  const std::vector<hsize_t>& shape, const void* data) const {
-    const Handle space = space_of(shape);
-    Handle created(H5Dcreate2(group, name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+    const H5Handle space = space_of(shape);
+    H5Handle created(H5Dcreate2(group, name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                    H5Dclose);
     // HDF5 refuses a null buffer even for zero elements, and an empty vector may give one.
     const bool has_data = element_count(shape) > 0;
@@ -286,15 +239,15 @@ class ResultsWriter {
   }
 
   template <class T>
-  Handle numeric_dataset(hid_t group, const std::string& where, const char* name,
+  H5Handle numeric_dataset(hid_t group, const std::string& where, const char* name,
                          const std::vector<hsize_t>& shape, const std::vector<T>& values,
                          const char* units) const {
     if (values.size() != element_count(shape)) {
       fail(where + "/" + name + ": " + std::to_string(values.size()) + " values do not fill " +
            shape_text(shape));
     }
-    Handle created =
-        dataset(group, where, name, Stored<T>::file_type(), Stored<T>::memory_type(), shape, values.data());
+    H5Handle created =
+        dataset(group, where, name, H5Stored<T>::file_type(), H5Stored<T>::memory_type(), shape, values.data());
     string_attribute(created.get(), where + "/" + name, "units", units);
     return created;
   }
@@ -308,22 +261,22 @@ class ResultsWriter {
   }
 
   void write_scenes(hid_t root, const std::vector<SceneRecord>& scenes) const {
-    const Handle group = create_group(root, "", "scenes");
+    const H5Handle group = create_group(root, "", "scenes");
     for (std::size_t k = 0; k < scenes.size(); ++k) {
       const std::string where = "/scenes/" + std::to_string(k);
-      const Handle scene = create_group(group.get(), "/scenes", std::to_string(k));
+      const H5Handle scene = create_group(group.get(), "/scenes", std::to_string(k));
       for (const auto& member : scene_strings)
         string_attribute(scene.get(), where, member.name, scenes[k].*member.field);
-      const Handle type = utf8_string_type();
+      const H5Handle type = utf8_string_type();
       const char* json = scenes[k].resolved_json.c_str();
       dataset(scene.get(), where, "resolved_json", type.get(), type.get(), {}, &json);
     }
   }
 
   void write_runs(hid_t root, const std::vector<RunRecord>& runs, const std::string& counter_kind) const {
-    const Handle group = create_group(root, "", "runs");
+    const H5Handle group = create_group(root, "", "runs");
     for (std::size_t k = 0; k < runs.size(); ++k) {
-      const Handle run = create_group(group.get(), "/runs", std::to_string(k));
+      const H5Handle run = create_group(group.get(), "/runs", std::to_string(k));
       write_run(run.get(), "/runs/" + std::to_string(k), runs[k], counter_kind);
     }
   }
@@ -339,13 +292,13 @@ class ResultsWriter {
     for (const TimedSeries& series : run_times) {
       numeric_dataset(run, where, series.name, per_step, record.*series.field, series.units);
     }
-    const Handle cycles = numeric_dataset(run, where, "cycles", per_step, record.cycles, cycles_units);
+    const H5Handle cycles = numeric_dataset(run, where, "cycles", per_step, record.cycles, cycles_units);
     string_attribute(cycles.get(), where + "/cycles", "counter", counter_kind);
     numeric_dataset(run, where, "contacts", per_step, record.contacts, contacts_units);
     write_phases(run, where, per_step, record);
     write_accuracy(run, where, record.accuracy);
 
-    const Handle type = utf8_string_type();
+    const H5Handle type = utf8_string_type();
     dataset(run, where, "state_hashes", type.get(), type.get(), {record.state_hashes.size()},
             c_strings(record.state_hashes).data());
   }
@@ -358,15 +311,15 @@ class ResultsWriter {
       return;
     }
     const std::vector<hsize_t> shape{per_step[0], per_step[1], record.phase_names.size()};
-    const Handle phases = numeric_dataset(run, where, "phase_ms", shape, record.phase_ms, phase_units);
+    const H5Handle phases = numeric_dataset(run, where, "phase_ms", shape, record.phase_ms, phase_units);
     string_array_attribute(phases.get(), where + "/phase_ms", "phase_names", record.phase_names);
   }
 
   void write_accuracy(hid_t run, const std::string& where,
                       const std::vector<AccuracySample>& accuracy) const {
-    const Handle in_file = accuracy_type(false);
-    const Handle in_memory = accuracy_type(true);
-    const Handle created =
+    const H5Handle in_file = accuracy_type(false);
+    const H5Handle in_memory = accuracy_type(true);
+    const H5Handle created =
         dataset(run, where, "accuracy", in_file.get(), in_memory.get(), {accuracy.size()}, accuracy.data());
     std::vector<std::string> units;
     for (const AccuracyField& field : accuracy_fields) units.push_back(field.units);
@@ -386,7 +339,7 @@ class ResultsReader {
     const std::string expected =
         std::string("; expected an fx2d-bench result file (schema ") + results_schema + ")";
     if (H5Fis_hdf5(path_.c_str()) <= 0) throw InputError(path_ + ": not an HDF5 file" + expected);
-    const Handle file(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    const H5Handle file(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
     if (!file.valid()) throw InputError(path_ + ": cannot open: the HDF5 file is truncated or damaged");
     if (H5Aexists(file.get(), "schema") <= 0)
       throw InputError(path_ + ": no root attribute 'schema'" + expected);
@@ -418,9 +371,9 @@ class ResultsReader {
     throw InputError(path_ + ": " + where + ": " + what);
   }
 
-  Handle open_group(hid_t parent, const std::string& where, const std::string& name) const {
+  H5Handle open_group(hid_t parent, const std::string& where, const std::string& name) const {
     if (H5Lexists(parent, name.c_str(), H5P_DEFAULT) <= 0) fail(where, "missing group '" + name + "'");
-    Handle group(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), H5Gclose);
+    H5Handle group(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), H5Gclose);
     if (!group.valid()) fail(where, "'" + name + "' is not a group");
     return group;
   }
@@ -428,21 +381,21 @@ class ResultsReader {
   // Calls visit(group, "/<collection>/<k>") for k = 0, 1, ... over every member of /<collection>.
   template <class Visit>
   void for_each_numbered_group(hid_t root, const std::string& collection, Visit visit) const {
-    const Handle group = open_group(root, "/", collection);
+    const H5Handle group = open_group(root, "/", collection);
     H5G_info_t info{};
     if (H5Gget_info(group.get(), &info) < 0) fail("/" + collection, "cannot list its members");
     for (hsize_t k = 0; k < info.nlinks; ++k) {
       const std::string name = std::to_string(k);
-      const Handle member = open_group(group.get(), "/" + collection, name);
+      const H5Handle member = open_group(group.get(), "/" + collection, name);
       visit(member.get(), "/" + collection + "/" + name);
     }
   }
 
-  Handle open_attribute(hid_t owner, const std::string& where, const char* name, H5T_class_t type_class,
+  H5Handle open_attribute(hid_t owner, const std::string& where, const char* name, H5T_class_t type_class,
                         const char* expected) const {
     if (H5Aexists(owner, name) <= 0) fail(where, std::string("missing attribute '") + name + "'");
-    Handle attribute(H5Aopen(owner, name, H5P_DEFAULT), H5Aclose);
-    const Handle type(H5Aget_type(attribute.get()), H5Tclose);
+    H5Handle attribute(H5Aopen(owner, name, H5P_DEFAULT), H5Aclose);
+    const H5Handle type(H5Aget_type(attribute.get()), H5Tclose);
     if (H5Tget_class(type.get()) != type_class ||
         (type_class == H5T_STRING && H5Tis_variable_str(type.get()) <= 0)) {
       fail(where, std::string("attribute '") + name + "': expected " + expected);
@@ -467,9 +420,9 @@ class ResultsReader {
 
   std::vector<std::string> string_array_attribute(hid_t owner, const std::string& where,
                                                   const char* name) const {
-    const Handle attribute = open_attribute(owner, where, name, H5T_STRING, "variable-length strings");
-    const Handle type(H5Aget_type(attribute.get()), H5Tclose);
-    const Handle space(H5Aget_space(attribute.get()), H5Sclose);
+    const H5Handle attribute = open_attribute(owner, where, name, H5T_STRING, "variable-length strings");
+    const H5Handle type(H5Aget_type(attribute.get()), H5Tclose);
+    const H5Handle space(H5Aget_space(attribute.get()), H5Sclose);
     const auto count = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
     const auto strings = read_strings(type.get(), count, [&](hid_t memory_type, char** buffer) {
       return H5Aread(attribute.get(), memory_type, buffer);
@@ -486,24 +439,24 @@ class ResultsReader {
 
   template <class T>
   T number_attribute(hid_t owner, const std::string& where, const char* name) const {
-    const bool is_float = Stored<T>::type_class == H5T_FLOAT;
-    const Handle attribute =
-        open_attribute(owner, where, name, Stored<T>::type_class, is_float ? "a number" : "an integer");
-    const Handle space(H5Aget_space(attribute.get()), H5Sclose);
+    const bool is_float = H5Stored<T>::type_class == H5T_FLOAT;
+    const H5Handle attribute =
+        open_attribute(owner, where, name, H5Stored<T>::type_class, is_float ? "a number" : "an integer");
+    const H5Handle space(H5Aget_space(attribute.get()), H5Sclose);
     T value{};
     if (H5Sget_simple_extent_npoints(space.get()) != 1 ||
-        H5Aread(attribute.get(), Stored<T>::memory_type(), &value) < 0) {
+        H5Aread(attribute.get(), H5Stored<T>::memory_type(), &value) < 0) {
       fail(where, std::string("attribute '") + name + "': expected a single value");
     }
     return value;
   }
 
-  Handle open_dataset(hid_t group, const std::string& where, const char* name, H5T_class_t type_class,
+  H5Handle open_dataset(hid_t group, const std::string& where, const char* name, H5T_class_t type_class,
                       const char* expected) const {
     if (H5Lexists(group, name, H5P_DEFAULT) <= 0) fail(where, std::string("missing dataset '") + name + "'");
-    Handle dataset(H5Dopen2(group, name, H5P_DEFAULT), H5Dclose);
+    H5Handle dataset(H5Dopen2(group, name, H5P_DEFAULT), H5Dclose);
     if (!dataset.valid()) fail(where, std::string("'") + name + "' is not a dataset");
-    const Handle type(H5Dget_type(dataset.get()), H5Tclose);
+    const H5Handle type(H5Dget_type(dataset.get()), H5Tclose);
     if (H5Tget_class(type.get()) != type_class ||
         (type_class == H5T_STRING && H5Tis_variable_str(type.get()) <= 0)) {
       fail(where + "/" + name, std::string("expected ") + expected);
@@ -512,7 +465,7 @@ class ResultsReader {
   }
 
   std::vector<hsize_t> shape_of(hid_t dataset) const {
-    const Handle space(H5Dget_space(dataset), H5Sclose);
+    const H5Handle space(H5Dget_space(dataset), H5Sclose);
     std::vector<hsize_t> shape(
         static_cast<std::size_t>(std::max(H5Sget_simple_extent_ndims(space.get()), 0)));
     H5Sget_simple_extent_dims(space.get(), shape.data(), nullptr);
@@ -520,9 +473,9 @@ class ResultsReader {
   }
 
   // Opens `name` and checks its shape; an empty `expected` accepts any one-dimensional length.
-  Handle open_shaped(hid_t group, const std::string& where, const char* name, H5T_class_t type_class,
+  H5Handle open_shaped(hid_t group, const std::string& where, const char* name, H5T_class_t type_class,
                      const char* expected_type, const std::vector<hsize_t>& expected) const {
-    Handle dataset = open_dataset(group, where, name, type_class, expected_type);
+    H5Handle dataset = open_dataset(group, where, name, type_class, expected_type);
     const std::vector<hsize_t> shape = shape_of(dataset.get());
     if (expected.empty() ? shape.size() != 1 : shape != expected) {
       fail(where + "/" + name, "expected shape " +
@@ -535,11 +488,11 @@ class ResultsReader {
   template <class T>
   std::vector<T> numbers(hid_t group, const std::string& where, const char* name,
                          const std::vector<hsize_t>& expected) const {
-    const char* kind = Stored<T>::type_class == H5T_FLOAT ? "floating-point numbers" : "integers";
-    const Handle dataset = open_shaped(group, where, name, Stored<T>::type_class, kind, expected);
+    const char* kind = H5Stored<T>::type_class == H5T_FLOAT ? "floating-point numbers" : "integers";
+    const H5Handle dataset = open_shaped(group, where, name, H5Stored<T>::type_class, kind, expected);
     std::vector<T> values(element_count(expected));
     if (!values.empty() &&
-        H5Dread(dataset.get(), Stored<T>::memory_type(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
+        H5Dread(dataset.get(), H5Stored<T>::memory_type(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
       fail(where + "/" + name, "cannot read its values");
     }
     return values;
@@ -548,13 +501,13 @@ class ResultsReader {
   // A one-dimensional string dataset, or a scalar one when `scalar`.
   std::vector<std::string> strings(hid_t group, const std::string& where, const char* name,
                                    bool scalar) const {
-    const Handle dataset = open_dataset(group, where, name, H5T_STRING, "variable-length strings");
+    const H5Handle dataset = open_dataset(group, where, name, H5T_STRING, "variable-length strings");
     const std::vector<hsize_t> shape = shape_of(dataset.get());
     if (shape.size() != (scalar ? 0u : 1u)) {
       fail(where + "/" + name, std::string("expected ") + (scalar ? "a single string" : "a list of strings") +
                                    ", found shape " + shape_text(shape));
     }
-    const Handle type(H5Dget_type(dataset.get()), H5Tclose);
+    const H5Handle type(H5Dget_type(dataset.get()), H5Tclose);
     const auto values = read_strings(type.get(), element_count(shape), [&](hid_t memory_type, char** buffer) {
       return H5Dread(dataset.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer);
     });
@@ -563,10 +516,10 @@ class ResultsReader {
   }
 
   std::vector<AccuracySample> accuracy(hid_t group, const std::string& where) const {
-    const Handle dataset =
+    const H5Handle dataset =
         open_shaped(group, where, "accuracy", H5T_COMPOUND, "a table of accuracy samples", {});
     std::vector<AccuracySample> samples(element_count(shape_of(dataset.get())));
-    const Handle in_memory = accuracy_type(true);
+    const H5Handle in_memory = accuracy_type(true);
     if (!samples.empty() &&
         H5Dread(dataset.get(), in_memory.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, samples.data()) < 0) {
       std::string fields;
