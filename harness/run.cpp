@@ -97,10 +97,24 @@ void check_out_path(const RunOptions& options) {
     throw InputError(options.out + ": no such directory " + directory.string());
 }
 
+// Every timed step keeps about 60 bytes of samples (more with a phase split); refuse a plan whose
+// samples would not fit in memory before measuring anything, rather than failing at the end.
+void check_sample_budget(const std::vector<SceneSpec>& scenes, const RunOptions& options) {
+  constexpr long long max_samples = 100'000'000;  // about 6 GB of per-step records
+  for (const SceneSpec& scene : scenes) {
+    const long long samples = static_cast<long long>(plan_for(options, scene).repeats) * scene.steps;
+    if (samples > max_samples) {
+      throw InputError("--repeats x --steps: " + std::to_string(samples) + " timed steps for scene " + scene.name +
+                       ", expected at most " + std::to_string(max_samples));
+    }
+  }
+}
+
 void run_command(const RunOptions& options, const std::string& command_line) {
   check_out_path(options);
   const ScopedInterruptHandler interrupts;  // interrupt.h: Ctrl-C saves what was measured
   const std::vector<SceneSpec> scenes = options.scenes.load();
+  check_sample_budget(scenes, options);
   const std::vector<const EngineInfo*> engines = options.engines.selected();
 
   ResultSet results;

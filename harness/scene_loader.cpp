@@ -1014,8 +1014,34 @@ Json parse_document(const std::string& text, const std::string& origin) {
 
 }  // namespace
 
+// Arrays and objects nested deeper than any scene needs are refused before parsing: the parser
+// recurses and allocates per level, so a file of '[' could otherwise take gigabytes.
+void require_shallow(const std::string& text, const std::string& origin) {
+  constexpr int max_depth = 64;
+  int depth = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > max_depth) {
+        const TextPosition position = position_at(text, i);
+        throw InputError(origin + ":" + std::to_string(position.line) + ":" + std::to_string(position.column) +
+                         ": nesting deeper than " + std::to_string(max_depth) + " levels, expected a scene");
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 SceneSpec load_scene_text(const std::string& text, const std::string& origin,
                           const SceneOverrides& overrides) {
+  require_shallow(text, origin);
   Json document = parse_document(text, origin);
   ErrorReporter errors(text, origin);
   apply_overrides(document, overrides, errors);
@@ -1031,6 +1057,14 @@ SceneSpec load_scene_file(const std::string& path, const SceneOverrides& overrid
   if (std::filesystem::is_directory(path)) throw InputError(path + ": cannot open: " + std::strerror(EISDIR));
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path + ": cannot open: " + std::strerror(errno));
+  // Scenes are compact (generators, not body lists of millions); a larger file is not a scene,
+  // and parsing one can cost gigabytes first.
+  constexpr std::uintmax_t max_scene_bytes = 16u << 20;
+  std::error_code size_error;
+  const std::uintmax_t size = std::filesystem::file_size(path, size_error);
+  if (!size_error && size > max_scene_bytes) {
+    throw InputError(path + ": " + std::to_string(size) + " bytes, expected a scene file of at most 16 MiB");
+  }
   std::ostringstream text;
   text << file.rdbuf();
   if (file.bad()) throw InputError(path + ": cannot read: " + std::strerror(errno));

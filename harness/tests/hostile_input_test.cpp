@@ -147,17 +147,28 @@ TEST_F(HostileInputTest, NanGravityIsRefused) {
   expect_refused_before_allocating(run_scene({"--set", R"(/gravity=["NaN",0])"}), "/gravity/0");
 }
 
-TEST_F(HostileInputTest, FiftyMegabytesOfGarbageAreRefusedQuickly) {
+TEST_F(HostileInputTest, FiftyMegabytesOfGarbageAreRefusedWithoutBeingRead) {
   std::string garbage(50'000'000, '\0');
   std::mt19937 random(7);
   std::ranges::generate(garbage, [&] { return static_cast<char>(random()); });
   const fs::path scene = write_file("garbage.json", garbage);
   const Ending ending = run_bench({"run", scene.string()}, directory_);
-  expect_one_line_refusal(ending, "syntax error");
-  // The loader holds the file's text once: its size plus the baseline, with room for a copy.
-  EXPECT_LT(ending.peak_rss_kib, refusal_rss_limit_kib + 2 * 50'000'000 / 1024);
-  // Reading 50 MB and failing at its first bytes; generous for a loaded 2-core machine.
+  // Refused by its size before a byte is parsed.
+  expect_refused_before_allocating(ending, "at most 16 MiB");
   EXPECT_LT(ending.seconds, 5.0);
+}
+
+TEST_F(HostileInputTest, DeeplyNestedSceneIsRefusedBeforeParsing) {
+  // Five million '[' once cost nlohmann's parser 43 s and 3.8 GB; the depth check reads it once.
+  const fs::path scene = write_file("deep.json", std::string(5'000'000, '['));
+  const Ending ending = run_bench({"run", scene.string()}, directory_);
+  expect_refused_before_allocating(ending, "nesting deeper than 64 levels");
+  EXPECT_LT(ending.seconds, 5.0);
+}
+
+TEST_F(HostileInputTest, AbsurdRepeatsTimesStepsAreRefusedBeforeMeasuring) {
+  const Ending ending = run_bench({"run", "pile", "--engine", "fx2d", "--repeats", "100000", "--steps", "10000000"}, directory_);
+  expect_refused_before_allocating(ending, "--repeats x --steps");
 }
 
 }  // namespace
