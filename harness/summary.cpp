@@ -62,14 +62,7 @@ nlohmann::ordered_json run_json(const RunRecord& run, const std::string& primary
       {"cycles_per_step", {{"median", summary.cycles_per_step.median}}},
       {"contacts_mean", summary.contacts_mean},
       {"phases_ms", phases},
-      {"accuracy",
-       {{"max_penetration", worst.max_penetration},
-        {"mean_penetration", worst.mean_penetration},
-        {"max_displacement", worst.max_displacement},
-        {"max_lateral_drift", worst.max_lateral_drift},
-        {"final_kinetic_energy", worst.kinetic_energy},
-        {"escaped", worst.escaped},
-        {"nan", worst.nan}}},
+      {"accuracy", accuracy_json(worst)},
       {"primary_metric", primary_metric},
       {"state_hash", run.final_state_hash},
       {"deterministic", run.deterministic},
@@ -130,6 +123,16 @@ RunSummary summarise(const RunRecord& run) {
   }
   summary.worst = worst_of(run.accuracy);
   return summary;
+}
+
+nlohmann::ordered_json accuracy_json(const AccuracySample& worst) {
+  return {{"max_penetration", worst.max_penetration},
+          {"mean_penetration", worst.mean_penetration},
+          {"max_displacement", worst.max_displacement},
+          {"max_lateral_drift", worst.max_lateral_drift},
+          {"final_kinetic_energy", worst.kinetic_energy},
+          {"escaped", worst.escaped},
+          {"nan", worst.nan}};
 }
 
 nlohmann::ordered_json summary_json(const ResultSet& results) {

@@ -32,6 +32,9 @@ struct RunSummary {
 RunSummary summarise(const RunRecord& run);
 
 // The summary object; `results.scenes` supplies each run's primary metric, matched by scene hash.
+// The accuracy object of the JSON summaries (run, sweep): the worst figures over the samples.
+nlohmann::ordered_json accuracy_json(const AccuracySample& worst);
+
 nlohmann::ordered_json summary_json(const ResultSet& results);
 
 // One row per run, columns aligned, ending in a newline.
