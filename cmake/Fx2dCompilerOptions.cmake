@@ -18,6 +18,6 @@ if(FX2D_SANITIZE)
   # Under ASan instrumentation GCC 12 reports -Wmaybe-uninitialized inside libstdc++'s <regex>
   # (std::function moves in regex_automaton.h); the Release build keeps the warning as an error.
   if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
-    add_compile_options(-Wno-maybe-uninitialized)
+    target_compile_options(fx2d_warnings INTERFACE -Wno-maybe-uninitialized)
   endif()
 endif()
