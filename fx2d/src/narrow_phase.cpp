@@ -44,8 +44,7 @@ void World::update_contacts() {
     }
     const BodySim& sa = sims[a];
     const BodySim& sb = sims[b];
-    const FxVec2f origin_offset = (sb.origin - sa.origin) - (sb.carry - sa.carry);
-    collide(ra.shape, FxTransform{{}, sa.rotation}, rb.shape, FxTransform{origin_offset, sb.rotation},
+    collide(ra.shape, FxTransform{{}, sa.rotation}, rb.shape, FxTransform{origin_offset(a, b), sb.rotation},
             speculative_distance(a, b), manifold);
     const bool was_touching = contact.touching;
     contacts.update_manifold(contact, manifold);

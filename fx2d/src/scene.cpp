@@ -89,16 +89,16 @@ void clamp_velocity(const FxSceneSettings& settings, BodySim& sim) {
   sim.angular_velocity = std::clamp(w, -max_spin, max_spin);
 }
 
+FxVec2f World::origin_offset(std::uint32_t a, std::uint32_t b) const {
+  const BodySim& sa = sims[a];
+  const BodySim& sb = sims[b];
+  return (sb.origin - sa.origin) - (sb.carry - sa.carry);
+}
+
 FxVec2f World::center_offset(std::uint32_t a, std::uint32_t b) const {
   const BodySim& sa = sims[a];
   const BodySim& sb = sims[b];
-  const FxVec2f origin_offset = (sb.origin - sa.origin) - (sb.carry - sa.carry);
-  return origin_offset + rotate(sb.rotation, sb.local_center) - rotate(sa.rotation, sa.local_center);
-}
-
-FxVec2f World::world_center(std::uint32_t index) const {
-  const BodySim& sim = sims[index];
-  return sim.origin + rotate(sim.rotation, sim.local_center);
+  return origin_offset(a, b) + rotate(sb.rotation, sb.local_center) - rotate(sa.rotation, sa.local_center);
 }
 
 void World::step() {

@@ -96,9 +96,9 @@ class World final {
   void update_sleep();
 
   float speculative_distance(std::uint32_t a, std::uint32_t b) const;
+  // b's origin minus a's, to twice float precision (the carries included).
+  FxVec2f origin_offset(std::uint32_t a, std::uint32_t b) const;
   FxVec2f center_offset(std::uint32_t a, std::uint32_t b) const;
-  FxVec2f world_center(std::uint32_t index) const;
-  bool is_movable(std::uint32_t index) const { return records[index].type != FxBodyType::static_body; }
 
   FxSceneSettings settings;
   std::vector<BodyRecord> records;

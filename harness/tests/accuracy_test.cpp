@@ -19,6 +19,7 @@
 #include <stdexcept>
 
 #include "counting_allocator.h"
+#include "spec_builders.h"
 
 
 namespace fxbench {
@@ -26,22 +27,8 @@ namespace {
 
 constexpr double tolerance = 1e-12;
 
-BodySpec box_at(Vec2 position, double angle = 0.0, BodyType type = BodyType::dynamic) {
-  BodySpec body;
-  body.type = type;
-  body.shape = ShapeKind::box;
-  body.position = position;
-  body.angle = angle;
-  return body;
-}
-
-BodySpec circle_at(Vec2 position, double radius = 0.5) {
-  BodySpec body;
-  body.shape = ShapeKind::circle;
-  body.radius = radius;
-  body.position = position;
-  return body;
-}
+using test::box_at;
+using test::circle_at;
 
 BodySpec polygon_at(Vec2 position, std::vector<Vec2> vertices) {
   BodySpec body;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engines/engines.h"
+#include "spec_builders.h"
 
 namespace fxbench {
 namespace {
@@ -22,33 +23,20 @@ namespace {
 // m * 2^-24 (about 6e-8 m); 1e-6 relative, floored at 1e-6, leaves room for sin/cos rounding.
 double float_tolerance(double magnitude) { return 1e-6 * std::max(1.0, std::abs(magnitude)); }
 
-BodySpec box(Vec2 position, double angle = 0.0) {
-  BodySpec body;
-  body.shape = ShapeKind::box;
-  body.position = position;
-  body.angle = angle;
-  return body;
-}
-
-BodySpec circle(Vec2 position, double radius = 0.5) {
-  BodySpec body;
-  body.shape = ShapeKind::circle;
-  body.radius = radius;
-  body.position = position;
-  return body;
-}
+using test::box_at;
+using test::circle_at;
 
 // Base from (0, 0) to (2, 0) in body space; the centroid (1, 1/3) is off the body origin, which
 // Box2D keeps apart from its centre of mass.
 BodySpec triangle(Vec2 position, double angle = 0.0) {
-  BodySpec body = box(position, angle);
+  BodySpec body = box_at(position, angle);
   body.shape = ShapeKind::polygon;
   body.vertices = {{0.0, 0.0}, {2.0, 0.0}, {1.0, 1.0}};
   return body;
 }
 
 BodySpec static_box(Vec2 position, Vec2 half_extents) {
-  BodySpec body = box(position);
+  BodySpec body = box_at(position);
   body.type = BodyType::static_body;
   body.half_extents = half_extents;
   return body;
@@ -97,13 +85,13 @@ class AdapterTest : public ::testing::TestWithParam<AdapterCase> {
 };
 
 TEST_P(AdapterTest, BuiltBodiesReadBackTheirSpecPosesAndVelocities) {
-  BodySpec tilted = box({1.0, 2.0}, 0.3);
+  BodySpec tilted = box_at({1.0, 2.0}, 0.3);
   tilted.linear_velocity = {0.5, -1.5};
   tilted.angular_velocity = 2.0;
-  BodySpec kinematic = box({-4.0, 3.0}, -0.2);
+  BodySpec kinematic = box_at({-4.0, 3.0}, -0.2);
   kinematic.type = BodyType::kinematic;
   kinematic.linear_velocity = {1.0, 0.0};
-  SceneSpec scene = scene_of({ground(), tilted, circle({3.0, 7.5}), kinematic});
+  SceneSpec scene = scene_of({ground(), tilted, circle_at({3.0, 7.5}), kinematic});
   if (GetParam().builds_polygons) {
     // A spinning off-centre polygon checks the conversion from centre of mass back to origin.
     BodySpec spinning = triangle({6.0, 4.0}, 0.7);
@@ -132,7 +120,7 @@ TEST_P(AdapterTest, BuiltBodiesReadBackTheirSpecPosesAndVelocities) {
 
 TEST_P(AdapterTest, FreeFallForOneSecondMatchesSymplecticEuler) {
   const double y0 = 100.0;
-  const SceneSpec scene = scene_of({box({0.0, y0})});
+  const SceneSpec scene = scene_of({box_at({0.0, y0})});
   const int steps = 60;
   const double g = -scene.gravity.y;
   const double t = steps * scene.dt;
@@ -152,7 +140,7 @@ TEST_P(AdapterTest, FreeFallForOneSecondMatchesSymplecticEuler) {
 }
 
 TEST_P(AdapterTest, BoxRestingOnGroundStaysWithinAMillimetreForTwoSeconds) {
-  const SceneSpec scene = scene_of({ground(), box({0.0, 0.5})});
+  const SceneSpec scene = scene_of({ground(), box_at({0.0, 0.5})});
 
   const std::vector<BodyState> state = run(*engine_, scene, 120);
 
@@ -162,7 +150,7 @@ TEST_P(AdapterTest, BoxRestingOnGroundStaysWithinAMillimetreForTwoSeconds) {
 }
 
 TEST_P(AdapterTest, OneBoxRestingOnGroundMakesOneContact) {
-  const SceneSpec scene = scene_of({ground(), box({0.0, 0.5})});
+  const SceneSpec scene = scene_of({ground(), box_at({0.0, 0.5})});
 
   run(*engine_, scene, 120);
 
@@ -170,7 +158,7 @@ TEST_P(AdapterTest, OneBoxRestingOnGroundMakesOneContact) {
 }
 
 TEST_P(AdapterTest, CircleAndBoxOnGroundSettleAtTheirRestingHeights) {
-  const SceneSpec scene = scene_of({ground(), circle({-2.0, 0.5}), box({2.0, 0.5})});
+  const SceneSpec scene = scene_of({ground(), circle_at({-2.0, 0.5}), box_at({2.0, 0.5})});
 
   const std::vector<BodyState> state = run(*engine_, scene, 60);
 
@@ -185,7 +173,7 @@ TEST_P(AdapterTest, CircleAndBoxOnGroundSettleAtTheirRestingHeights) {
 
 // A static post with a box hanging from it on a rigid rod, and a second box pinned to the first.
 SceneSpec pendulum_scene() {
-  SceneSpec scene = scene_of({static_box({0.0, 10.0}, {0.1, 0.1}), box({3.0, 10.0}), box({4.0, 10.0})});
+  SceneSpec scene = scene_of({static_box({0.0, 10.0}, {0.1, 0.1}), box_at({3.0, 10.0}), box_at({4.0, 10.0})});
   JointSpec rod;
   rod.kind = JointKind::distance;
   rod.body_a = 0;
@@ -234,7 +222,7 @@ TEST(OdeAdapter, TumblingBodiesStayExactlyInThePlane) {
   std::vector<BodySpec> bodies{ground()};
   for (int i = 0; i < 40; ++i) {
     const Vec2 position{1.5 * (i % 10) - 7.0, 1.0 + 1.5 * (i / 10)};
-    bodies.push_back(i % 3 == 0 ? circle(position) : box(position, 0.1 * ((7 * i) % 11 - 5)));
+    bodies.push_back(i % 3 == 0 ? circle_at(position) : box_at(position, 0.1 * ((7 * i) % 11 - 5)));
   }
   const SceneSpec scene = scene_of(bodies);
   auto engine = make_ode_engine();
@@ -265,7 +253,7 @@ TEST(OdeAdapter, ReportsNoPhases) { EXPECT_TRUE(make_ode_engine()->phase_names()
 
 TEST(Box2dAdapter, ReportsSixNonNegativePhases) {
   auto engine = make_box2d_engine();
-  run(*engine, scene_of({ground(), box({0.0, 0.5})}), 1);
+  run(*engine, scene_of({ground(), box_at({0.0, 0.5})}), 1);
   const std::vector<std::string> names = engine->phase_names();
   ASSERT_EQ(names.size(), 6u);
   std::vector<double> ms(names.size(), -1.0);
@@ -274,7 +262,7 @@ TEST(Box2dAdapter, ReportsSixNonNegativePhases) {
 }
 
 TEST(Box2dAdapter, RejectsPolygonsBeyondEightVertices) {
-  BodySpec nonagon = box({0.0, 0.0});
+  BodySpec nonagon = box_at({0.0, 0.0});
   nonagon.shape = ShapeKind::polygon;
   for (int i = 0; i < 9; ++i) {
     const double angle = 2.0 * std::numbers::pi * i / 9.0;
