@@ -50,17 +50,13 @@ template <int Points, bool UseBias>
   const float nx = k.normal_x[lane], ny = k.normal_y[lane];
   const float ma = k.inv_mass_a[lane], ia = k.inv_inertia_a[lane];
   const float mb = k.inv_mass_b[lane], ib = k.inv_inertia_b[lane];
-  const float dpx = b.dpx - a.dpx, dpy = b.dpy - a.dpy;
   // Read unconditionally, so the selects below need no conditional loads.
   const float bias_rate = p.softness.bias_rate, soft_mass_scale = p.softness.mass_scale;
   const float soft_impulse_scale = p.softness.impulse_scale, max_push = p.max_push_speed, inv_h = p.inv_substep_dt;
   for (int i = 0; i < Points; ++i) {
     const float rax = k.anchor_ax[i][lane], ray = k.anchor_ay[i][lane];
     const float rbx = k.anchor_bx[i][lane], rby = k.anchor_by[i][lane];
-    // Separation now, from how far each anchor moved and turned since the step began.
-    const float gap_x = dpx + ((b.qc * rbx - b.qs * rby) - (a.qc * rax - a.qs * ray));
-    const float gap_y = dpy + ((b.qs * rbx + b.qc * rby) - (a.qs * rax + a.qc * ray));
-    const float separation = gap_x * nx + gap_y * ny + k.adjusted_separation[i][lane];
+    const float separation = k.separation[i][lane];
     const bool speculative = separation > 0.0f;
     const bool soft = UseBias && !speculative;
     const float push = max_of(bias_rate * separation, -max_push);
@@ -91,19 +87,18 @@ template <int Points, bool UseBias>
   }
 }
 
-LaneBody load(const FxBodyState& s) {
-  return {s.linear_velocity.x, s.linear_velocity.y, s.angular_velocity,
-          s.delta_position.x,  s.delta_position.y,  s.delta_rotation.c, s.delta_rotation.s};
+[[gnu::always_inline]] inline LaneBody load(const FxBodyState& s) {
+  return {s.linear_velocity.x, s.linear_velocity.y, s.angular_velocity};
 }
 
-void store(FxBodyState& s, const LaneBody& body) {
+[[gnu::always_inline]] inline void store(FxBodyState& s, const LaneBody& body) {
   s.linear_velocity = {body.vx, body.vy};
   s.angular_velocity = body.w;
 }
 
 // Lanes may share bodies: gather, solve and scatter one lane at a time, in lane order.
 template <LaneFn LaneSolve>
-void run_serial(FxContactBatch& k, FxBodyState* states, const ContactSolveParams& p) {
+[[gnu::always_inline]] inline void run_serial(FxContactBatch& k, FxBodyState* states, const ContactSolveParams& p) {
   for (int lane = 0; lane < fx_lanes; ++lane) {
     LaneBody a = load(states[k.body_a[lane]]);
     LaneBody b = load(states[k.body_b[lane]]);
@@ -116,33 +111,95 @@ void run_serial(FxContactBatch& k, FxBodyState* states, const ContactSolveParams
 // Invariant: no two lanes share a movable body (one colour). Gather every lane, solve them as one
 // vectorisable loop over local columns, scatter every lane.
 template <LaneFn LaneSolve>
-void run_batched(FxContactBatch& __restrict k, FxBodyState* __restrict states, const ContactSolveParams& p) {
-  // Columns of the lanes' body state, so that the solve loop reads and writes unit-stride arrays.
-  alignas(32) float avx[fx_lanes], avy[fx_lanes], aw[fx_lanes], adpx[fx_lanes], adpy[fx_lanes], aqc[fx_lanes],
-      aqs[fx_lanes];
-  alignas(32) float bvx[fx_lanes], bvy[fx_lanes], bw[fx_lanes], bdpx[fx_lanes], bdpy[fx_lanes], bqc[fx_lanes],
-      bqs[fx_lanes];
+[[gnu::always_inline]] inline void run_batched(FxContactBatch& __restrict k, FxBodyState* __restrict states, const ContactSolveParams& p) {
+  // Columns of the lanes' velocities, so that the solve loop reads and writes unit-stride arrays.
+  alignas(32) float avx[fx_lanes], avy[fx_lanes], aw[fx_lanes], bvx[fx_lanes], bvy[fx_lanes], bw[fx_lanes];
   for (int lane = 0; lane < fx_lanes; ++lane) {
     const LaneBody a = load(states[k.body_a[lane]]);
     const LaneBody b = load(states[k.body_b[lane]]);
-    avx[lane] = a.vx, avy[lane] = a.vy, aw[lane] = a.w, adpx[lane] = a.dpx, adpy[lane] = a.dpy, aqc[lane] = a.qc,
-    aqs[lane] = a.qs;
-    bvx[lane] = b.vx, bvy[lane] = b.vy, bw[lane] = b.w, bdpx[lane] = b.dpx, bdpy[lane] = b.dpy, bqc[lane] = b.qc,
-    bqs[lane] = b.qs;
+    avx[lane] = a.vx, avy[lane] = a.vy, aw[lane] = a.w;
+    bvx[lane] = b.vx, bvy[lane] = b.vy, bw[lane] = b.w;
   }
   // check-vectorized(6): the lane loop below, in all six instantiations (warm start and
   // solve with and without bias, one and two points), must be vectorised (ci/check-vectorized)
   for (int lane = 0; lane < fx_lanes; ++lane) {
-    LaneBody a{avx[lane], avy[lane], aw[lane], adpx[lane], adpy[lane], aqc[lane], aqs[lane]};
-    LaneBody b{bvx[lane], bvy[lane], bw[lane], bdpx[lane], bdpy[lane], bqc[lane], bqs[lane]};
+    LaneBody a{avx[lane], avy[lane], aw[lane]};
+    LaneBody b{bvx[lane], bvy[lane], bw[lane]};
     LaneSolve(k, lane, a, b, p);
     avx[lane] = a.vx, avy[lane] = a.vy, aw[lane] = a.w;
     bvx[lane] = b.vx, bvy[lane] = b.vy, bw[lane] = b.w;
   }
   for (int lane = 0; lane < fx_lanes; ++lane) {
-    store(states[k.body_a[lane]], {avx[lane], avy[lane], aw[lane], 0, 0, 0, 0});
-    store(states[k.body_b[lane]], {bvx[lane], bvy[lane], bw[lane], 0, 0, 0, 0});
+    store(states[k.body_a[lane]], {avx[lane], avy[lane], aw[lane]});
+    store(states[k.body_b[lane]], {bvx[lane], bvy[lane], bw[lane]});
   }
+}
+
+// The separation of every point of one batch at the bodies' current poses, from how far each
+// anchor moved and turned since the step began. It reads poses and writes only the batch, so
+// lanes never conflict, even in an overflow batch.
+template <int Points>
+[[gnu::always_inline]] inline void update_batch_separations(FxContactBatch& __restrict k,
+                                                            const FxBodyState* __restrict states) {
+  alignas(32) float dpx[fx_lanes], dpy[fx_lanes], aqc[fx_lanes], aqs[fx_lanes], bqc[fx_lanes], bqs[fx_lanes];
+  for (int lane = 0; lane < fx_lanes; ++lane) {
+    const FxBodyState& a = states[k.body_a[lane]];
+    const FxBodyState& b = states[k.body_b[lane]];
+    dpx[lane] = b.delta_position.x - a.delta_position.x, dpy[lane] = b.delta_position.y - a.delta_position.y;
+    aqc[lane] = a.delta_rotation.c, aqs[lane] = a.delta_rotation.s;
+    bqc[lane] = b.delta_rotation.c, bqs[lane] = b.delta_rotation.s;
+  }
+  // check-vectorized(2): the lane loop below, for one and two points, must be vectorised
+  for (int lane = 0; lane < fx_lanes; ++lane) {
+    for (int i = 0; i < Points; ++i) {
+      const float rax = k.anchor_ax[i][lane], ray = k.anchor_ay[i][lane];
+      const float rbx = k.anchor_bx[i][lane], rby = k.anchor_by[i][lane];
+      const float gap_x = dpx[lane] + ((bqc[lane] * rbx - bqs[lane] * rby) - (aqc[lane] * rax - aqs[lane] * ray));
+      const float gap_y = dpy[lane] + ((bqs[lane] * rbx + bqc[lane] * rby) - (aqs[lane] * rax + aqc[lane] * ray));
+      k.separation[i][lane] = gap_x * k.normal_x[lane] + gap_y * k.normal_y[lane] + k.adjusted_separation[i][lane];
+    }
+  }
+}
+
+template <LaneFn OnePoint, LaneFn TwoPoints>
+[[gnu::always_inline]] inline void sweep(std::span<const BatchRun> runs, FxContactBatch* batches, FxBodyState* states,
+                                         const ContactSolveParams& params, bool scalar) {
+  for (const BatchRun& run : runs) {
+    const bool serial = scalar || run.serial;
+    for (int i = run.first; i < run.first + run.count; ++i) {
+      FxContactBatch& k = batches[i];
+      if (run.point_count == 1) {
+        serial ? run_serial<OnePoint>(k, states, params) : run_batched<OnePoint>(k, states, params);
+      } else {
+        serial ? run_serial<TwoPoints>(k, states, params) : run_batched<TwoPoints>(k, states, params);
+      }
+    }
+  }
+}
+
+// The sweeps the step runs, each compiled once per instruction set FX2D_LANE_KERNEL names.
+FX2D_LANE_KERNEL void warm_start_runs(std::span<const BatchRun> runs, FxContactBatch* batches, FxBodyState* states,
+                                      bool scalar) {
+  sweep<&warm_start_lane<1>, &warm_start_lane<2>>(runs, batches, states, {}, scalar);
+}
+
+FX2D_LANE_KERNEL void update_run_separations(std::span<const BatchRun> runs, FxContactBatch* batches,
+                                             const FxBodyState* states) {
+  for (const BatchRun& run : runs) {
+    for (int i = run.first; i < run.first + run.count; ++i) {
+      run.point_count == 1 ? update_batch_separations<1>(batches[i], states) : update_batch_separations<2>(batches[i], states);
+    }
+  }
+}
+
+FX2D_LANE_KERNEL void solve_runs_biased(std::span<const BatchRun> runs, FxContactBatch* batches, FxBodyState* states,
+                                        const ContactSolveParams& params, bool scalar) {
+  sweep<&solve_lane<1, true>, &solve_lane<2, true>>(runs, batches, states, params, scalar);
+}
+
+FX2D_LANE_KERNEL void solve_runs_relaxed(std::span<const BatchRun> runs, FxContactBatch* batches, FxBodyState* states,
+                                         const ContactSolveParams& params, bool scalar) {
+  sweep<&solve_lane<1, false>, &solve_lane<2, false>>(runs, batches, states, params, scalar);
 }
 
 }  // namespace
@@ -150,7 +207,7 @@ void run_batched(FxContactBatch& __restrict k, FxBodyState* __restrict states, c
 void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, std::span<const int> members, bool serial,
                               std::uint32_t padding_body) {
   for (int points = 1; points <= 2; ++points) {
-    Run run{static_cast<int>(batches_.size()), 0, points, serial};
+    BatchRun run{static_cast<int>(batches_.size()), 0, points, serial};
     int lane = fx_lanes;
     for (const int index : members) {
       const ContactConstraint& c = constraints[index];
@@ -210,36 +267,25 @@ void ContactBatches::pack(std::span<const ContactConstraint> constraints, const 
   add_runs(constraints, graph.members(FxContactGraph::overflow), true, padding_body);
 }
 
-template <LaneFn OnePoint, LaneFn TwoPoints>
-void ContactBatches::sweep(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar) {
-  for (const Run& run : runs_) {
-    const bool serial = scalar || run.serial;
-    for (int i = run.first; i < run.first + run.count; ++i) {
-      FxContactBatch& k = batches_[i];
-      if (run.point_count == 1) {
-        serial ? run_serial<OnePoint>(k, states.data(), params) : run_batched<OnePoint>(k, states.data(), params);
-      } else {
-        serial ? run_serial<TwoPoints>(k, states.data(), params) : run_batched<TwoPoints>(k, states.data(), params);
-      }
-    }
-  }
+void ContactBatches::warm_start(std::span<FxBodyState> states, bool scalar) {
+  warm_start_runs(runs_, batches_.data(), states.data(), scalar);
 }
 
-void ContactBatches::warm_start(std::span<FxBodyState> states, bool scalar) {
-  sweep<&warm_start_lane<1>, &warm_start_lane<2>>(states, {}, scalar);
+void ContactBatches::update_separations(std::span<const FxBodyState> states) {
+  update_run_separations(runs_, batches_.data(), states.data());
 }
 
 void ContactBatches::resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias,
                                         bool scalar) {
   if (use_bias) {
-    sweep<&solve_lane<1, true>, &solve_lane<2, true>>(states, params, scalar);
+    solve_runs_biased(runs_, batches_.data(), states.data(), params, scalar);
   } else {
-    sweep<&solve_lane<1, false>, &solve_lane<2, false>>(states, params, scalar);
+    solve_runs_relaxed(runs_, batches_.data(), states.data(), params, scalar);
   }
 }
 
 void ContactBatches::unpack(std::span<ContactConstraint> constraints) const {
-  for (const Run& run : runs_) {
+  for (const BatchRun& run : runs_) {
     for (int i = run.first; i < run.first + run.count; ++i) {
       const FxContactBatch& k = batches_[i];
       for (int lane = 0; lane < fx_lanes; ++lane) {

@@ -24,11 +24,9 @@ namespace fx2d::detail {
 
 inline constexpr int fx_lanes = 8;
 
-// The part of a body's solver state a contact reads, copied into locals for one pass.
+// The part of a body's solver state a velocity pass reads and writes, copied into locals.
 struct LaneBody {
-  float vx, vy, w;  // velocity
-  float dpx, dpy;   // displacement since the step began
-  float qc, qs;     // rotation since the step began
+  float vx, vy, w;
 };
 
 struct FxContactBatch;
@@ -51,6 +49,7 @@ struct alignas(32) FxContactBatch {
   float anchor_bx[2][fx_lanes];
   float anchor_by[2][fx_lanes];
   float adjusted_separation[2][fx_lanes];
+  float separation[2][fx_lanes];  // at the poses of the last position integration (update_separations)
   float normal_mass[2][fx_lanes];
   float tangent_mass[2][fx_lanes];
   float normal_impulse[2][fx_lanes];
@@ -58,6 +57,25 @@ struct alignas(32) FxContactBatch {
   float max_normal_impulse[2][fx_lanes];
   int constraint[fx_lanes];  // index into the step's constraints, -1 for padding
 };
+
+// Consecutive batches of one colour (or of the overflow) with one point count.
+struct BatchRun {
+  int first = 0;        // first batch
+  int count = 0;        // batches
+  int point_count = 1;  // 1 or 2
+  bool serial = false;  // overflow: lanes may share bodies
+};
+
+// Where the CPU allows more than the build's baseline instruction set, the lane kernels are
+// compiled a second time for AVX2 and the loader picks the version (an ifunc), so a portable
+// binary still gets eight-wide lanes. The result is the same to the bit: AVX2 brings no fused
+// multiply-add (that is the separate FMA extension), and lanes are independent. Every lane
+// function is always_inline, so each version holds its own copy of them.
+#if defined(__x86_64__) && !defined(__AVX2__)
+#define FX2D_LANE_KERNEL __attribute__((target_clones("avx2", "default")))
+#else
+#define FX2D_LANE_KERNEL
+#endif
 
 class ContactBatches {
  public:
@@ -68,24 +86,19 @@ class ContactBatches {
   void pack(std::span<const ContactConstraint> constraints, const FxContactGraph& graph, std::uint32_t padding_body);
   // With `scalar`, every batch is solved lane by lane (the scalar twin); the result is the same.
   void warm_start(std::span<FxBodyState> states, bool scalar);
+  // Works out every point's separation at the current poses; the velocity passes read it. Poses
+  // change only between substeps, so once after each position integration is enough.
+  void update_separations(std::span<const FxBodyState> states);
   void resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias, bool scalar);
   // Copies the accumulated impulses back to the constraints they came from.
   void unpack(std::span<ContactConstraint> constraints) const;
 
  private:
-  struct Run {
-    int first = 0;        // first batch
-    int count = 0;        // batches
-    int point_count = 1;  // 1 or 2
-    bool serial = false;  // overflow: lanes may share bodies
-  };
-  template <LaneFn OnePoint, LaneFn TwoPoints>
-  void sweep(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar);
   void add_runs(std::span<const ContactConstraint> constraints, std::span<const int> members, bool serial,
                 std::uint32_t padding_body);
 
   std::vector<FxContactBatch> batches_;
-  std::vector<Run> runs_;
+  std::vector<BatchRun> runs_;
 };
 
 }  // namespace fx2d::detail

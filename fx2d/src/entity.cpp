@@ -110,6 +110,7 @@ void World::reserve_scratch() {
   body_of_proxy.reserve(2 * n);
   moved_bodies.reserve(n);
   awake_bodies.reserve(n);
+  integrating.reserve(n);
   island_parent.reserve(n);
   island_min_sleep_time.reserve(n);
   contacts.slots.reserve(4 * n);

@@ -155,6 +155,8 @@ void World::prepare_solver() {
   // Gather the hot state of every body; sleeping and static ones keep zero velocity and are
   // never written by a constraint (a touching constraint always has its bodies awake).
   awake_bodies.clear();
+  integrating.clear();
+  const float h = settings.dt / static_cast<float>(settings.substeps);
   states.resize(records.size() + 1);
   states.back() = FxBodyState{};
   movable.resize(records.size() + 1);
@@ -168,6 +170,9 @@ void World::prepare_solver() {
     state.linear_velocity = sims[i].linear_velocity;
     state.angular_velocity = sims[i].angular_velocity;
     awake_bodies.push_back(i);
+    if (records[i].type != FxBodyType::dynamic) continue;
+    integrating.push_back({i, settings.gravity + sims[i].inv_mass * sims[i].force,
+                           1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping)});
   }
   solver.prepare(*this);
   contact_graph.build(solver.constraints, movable);
@@ -204,23 +209,22 @@ void World::solve_substeps() {
 
   const float max_speed = settings.max_linear_speed;
   const float max_spin = max_angular_speed(settings);
+  {
+    FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
+    contact_batches.update_separations(states);
+  }
   for (int substep = 0; substep < settings.substeps; ++substep) {
     {
       FX2D_TIME_STAGE(profile, FxStage::integration);
-      // Invariant: awake_bodies holds only awake kinematic and dynamic bodies.
-      for (const std::uint32_t i : awake_bodies) {
-        if (records[i].type != FxBodyType::dynamic) continue;
-        const BodySim& sim = sims[i];
-        const BodyRecord& record = records[i];
-        FxBodyState& state = states[i];
-        const FxVec2f acceleration = settings.gravity + sim.inv_mass * sim.force;
-        FxVec2f v = state.linear_velocity + h * acceleration;
-        v *= 1.0f / (1.0f + h * record.linear_damping);
+      // Invariant: integrating holds exactly the awake dynamic bodies, with this step's forces.
+      for (const VelocityIntegration& body : integrating) {
+        FxBodyState& state = states[body.body];
+        FxVec2f v = state.linear_velocity + h * body.acceleration;
+        v *= body.linear_factor;
         const float speed_squared = length_squared(v);
         if (speed_squared > max_speed * max_speed) v *= max_speed / std::sqrt(speed_squared);
         state.linear_velocity = v;
-        const float w = state.angular_velocity * (1.0f / (1.0f + h * record.angular_damping));
-        state.angular_velocity = std::clamp(w, -max_spin, max_spin);
+        state.angular_velocity = std::clamp(state.angular_velocity * body.angular_factor, -max_spin, max_spin);
       }
     }
     if (has_constraints) {
@@ -239,6 +243,10 @@ void World::solve_substeps() {
         state.delta_position += h * state.linear_velocity;
         state.delta_rotation = integrate_rotation(state.delta_rotation, h * state.angular_velocity);
       }
+    }
+    {
+      FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
+      contact_batches.update_separations(states);
     }
     for (int pass = 0; pass < settings.relax_passes; ++pass) velocity_pass(false);
   }

@@ -60,6 +60,15 @@ struct BodySim {
   FxAABB aabb;                 // tight bounds at the current pose
 };
 
+// What a substep's velocity integration of one awake dynamic body reads; constant over a step,
+// so it is worked out once in prepare_solver() instead of in every substep.
+struct VelocityIntegration {
+  std::uint32_t body = 0;      // packed index
+  FxVec2f acceleration;        // gravity + inv_mass * force
+  float linear_factor = 1.0f;  // 1 / (1 + h * linear_damping), h the substep
+  float angular_factor = 1.0f;
+};
+
 struct Snapshot {
   BodyRecord record;
   BodySim sim;
@@ -126,6 +135,7 @@ class World final {
   // Scratch reused every step, so a step allocates nothing once these have grown.
   std::vector<std::uint32_t> moved_bodies;
   std::vector<std::uint32_t> awake_bodies;
+  std::vector<VelocityIntegration> integrating;  // the awake dynamic bodies
   std::vector<int> island_parent;
   std::vector<float> island_min_sleep_time;
   std::size_t reserved_bodies = 0;
