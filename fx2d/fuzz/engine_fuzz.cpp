@@ -283,14 +283,31 @@ class Session {
   int steps_ = 0;
 };
 
+// With FX2D_FUZZ_TRACE set, every call and the state after it go to stderr: how a reproducer
+// from crashes/ is read.
+void trace_call(const fx2d::FxScene& scene, const char* call) {
+  std::fprintf(stderr, "after %s (step %llu):\n", call, static_cast<unsigned long long>(scene.step_index()));
+  for (std::uint32_t i = 0; i < scene.entity_count(); ++i) {
+    const fx2d::FxEntity& e = *scene.entity(i);
+    std::fprintf(stderr, "  entity %u type %d mass %g p (%g, %g) angle %g v (%g, %g) w %g\n", i,
+                 static_cast<int>(e.type()), static_cast<double>(e.mass()), static_cast<double>(e.position().x),
+                 static_cast<double>(e.position().y), static_cast<double>(e.angle()),
+                 static_cast<double>(e.linear_velocity().x), static_cast<double>(e.linear_velocity().y),
+                 static_cast<double>(e.angular_velocity()));
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const bool tracing = std::getenv("FX2D_FUZZ_TRACE") != nullptr;
   ByteStream in(data, size);
   Session session;
   while (!in.empty() && !session.out_of_steps()) {
     try {
-      check_finite_state(session.scene(), session.apply(in));
+      const char* call = session.apply(in);
+      if (tracing) trace_call(session.scene(), call);
+      check_finite_state(session.scene(), call);
     } catch (const fx2d::FxInvalidArgument&) {
       // The engine refused an invalid call: the expected outcome. Decoding goes on from there.
     }

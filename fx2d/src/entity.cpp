@@ -49,9 +49,14 @@ void validate(const FxEntityDef& def, const FxSceneSettings& settings) {
 // leaves no trace.
 FxMassData checked_mass(const FxEntityDef& def) {
   const FxMassData mass = def.shape.mass_data(def.material.density);
-  // A density can be positive yet give a mass whose inverse overflows (1e-40) or is infinite.
-  require(std::isnormal(mass.mass) && std::isfinite(1.0f / mass.mass) && std::isfinite(mass.rotational_inertia),
-          "material.density", "a density that gives a finite, normal mass and inertia");
+  // Within these bounds every product the solver forms (effective masses, impulses, impulse times
+  // inverse mass or inertia times lever arm) stays finite in float for any shape up to
+  // FxShape::max_extent; a mass of 1e-38 kg or 1e38 kg, though finite, would overflow one of them.
+  const auto within = [](float value, float low, float high) { return value >= low && value <= high; };
+  require(within(mass.mass, fx_min_mass, fx_max_mass), "material.density",
+          "a density that gives a mass in [1e-9, 1e20] kg");
+  require(within(mass.rotational_inertia, fx_min_rotational_inertia, fx_max_rotational_inertia), "material.density",
+          "a density that gives a rotational inertia in [1e-18, 1e32] kg m^2");
   return mass;
 }
 

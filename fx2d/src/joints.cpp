@@ -6,9 +6,16 @@
 #include <string>
 
 #include "fx2d/Constraint.h"
+#include "world.h"
 
 namespace fx2d {
 namespace {
+
+// An anchor or pin as far out as a body may be placed, and no further: beyond that, sums of
+// anchors and offsets overflow float.
+bool within_world(FxVec2f point) {
+  return is_finite(point) && std::fabs(point.x) <= detail::max_coordinate && std::fabs(point.y) <= detail::max_coordinate;
+}
 
 struct JointBodies {
   FxBodyState& a;
@@ -73,10 +80,12 @@ FxConstraint::FxConstraint(std::shared_ptr<FxEntity> a, std::shared_ptr<FxEntity
 FxDistanceJoint::FxDistanceJoint(std::shared_ptr<FxEntity> a, std::shared_ptr<FxEntity> b, FxVec2f local_anchor_a,
                                  FxVec2f local_anchor_b, float length)
     : FxConstraint(std::move(a), std::move(b)), local_anchor_a_(local_anchor_a), local_anchor_b_(local_anchor_b), length_(length) {
-  if (!is_finite(local_anchor_a) || !is_finite(local_anchor_b)) {
-    throw FxInvalidArgument("FxDistanceJoint: local anchors: expected finite coordinates");
+  if (!within_world(local_anchor_a) || !within_world(local_anchor_b)) {
+    throw FxInvalidArgument("FxDistanceJoint: local anchors: expected finite coordinates within 1e7 m");
   }
-  if (!std::isfinite(length)) throw FxInvalidArgument("FxDistanceJoint: length: expected a finite number");
+  if (!std::isfinite(length) || length > detail::max_coordinate) {
+    throw FxInvalidArgument("FxDistanceJoint: length: expected a finite number <= 1e7 m");
+  }
   if (length_ < 0.0f) length_ = current_length();
 }
 
@@ -107,7 +116,9 @@ void FxDistanceJoint::evaluate(FxConstraintContext& context, bool use_bias) {
   const float cra = cross(ra, axis);
   const float crb = cross(rb, axis);
   const float k = bodies.inv_mass_a + bodies.inv_mass_b + bodies.inv_inertia_a * cra * cra + bodies.inv_inertia_b * crb * crb;
-  if (k <= 0.0f) return;
+  // No finite effective mass (both ends immovable, or an inverse mass so large that K overflowed):
+  // this joint cannot move its bodies, and an impulse from 1/k would not be finite.
+  if (!(k > 0.0f && std::isfinite(k))) return;
   float bias = 0.0f;
   float mass_scale = 1.0f;
   float impulse_scale = 0.0f;
@@ -125,7 +136,9 @@ void FxDistanceJoint::evaluate(FxConstraintContext& context, bool use_bias) {
 
 FxRevoluteJoint::FxRevoluteJoint(std::shared_ptr<FxEntity> a, std::shared_ptr<FxEntity> b, FxVec2f world_anchor)
     : FxConstraint(std::move(a), std::move(b)) {
-  if (!is_finite(world_anchor)) throw FxInvalidArgument("FxRevoluteJoint: world_anchor: expected finite coordinates");
+  if (!within_world(world_anchor)) {
+    throw FxInvalidArgument("FxRevoluteJoint: world_anchor: expected finite coordinates within 1e7 m");
+  }
   local_anchor_a_ = inv_rotate(entity_a()->rotation(), world_anchor - entity_a()->position());
   local_anchor_b_ = inv_rotate(entity_b()->rotation(), world_anchor - entity_b()->position());
 }
@@ -164,6 +177,10 @@ void FxRevoluteJoint::evaluate(FxConstraintContext& context, bool use_bias) {
   k(0, 1) = -ra.y * ra.x * ia - rb.y * rb.x * ib;
   k(1, 0) = k(0, 1);
   k(1, 1) = ma + mb + ra.x * ra.x * ia + rb.x * rb.x * ib;
+  // Singular K (both ends immovable, or the pin on a line through both centres with no mass to
+  // move along it) or one that overflowed: no finite impulse exists, so this pass does nothing.
+  const float determinant = k.determinant();
+  if (!(determinant > 0.0f && std::isfinite(determinant))) return;
   const FxVec2f cdot = relative_velocity(bodies, ra, rb) + bias;
   const Eigen::Vector2f solved = k.inverse() * Eigen::Vector2f(cdot.x, cdot.y);
   const FxVec2f impulse = FxVec2f{-mass_scale * solved.x(), -mass_scale * solved.y()} - impulse_scale * impulse_;

@@ -47,6 +47,12 @@ class WorldConstraintContext final : public FxConstraintContext {
 // resolve faster than the substep can represent.
 float capped_hertz(float hertz, float substep_dt) { return std::min(hertz, 0.25f / substep_dt); }
 
+// Component-wise, so that a force large enough to overflow inv_mass * force to infinity still gives
+// a finite acceleration (the velocity clamp then keeps its direction); below the bound, unchanged.
+FxVec2f clamped_acceleration(FxVec2f acceleration, float bound) {
+  return {std::clamp(acceleration.x, -bound, bound), std::clamp(acceleration.y, -bound, bound)};
+}
+
 }  // namespace
 
 void validate_settings(const FxSceneSettings& s) {
@@ -71,22 +77,24 @@ void validate_settings(const FxSceneSettings& s) {
 
 World::World(const FxSceneSettings& s) : settings(s) { validate_settings(settings); }
 
-void clamp_velocity(const FxSceneSettings& settings, BodySim& sim) {
-  const float max_speed = settings.max_linear_speed;
-  const float speed_squared = length_squared(sim.linear_velocity);
-  if (!(speed_squared <= max_speed * max_speed)) {
-    // Keep the direction even when a push overflowed a component to infinity: scale by the
-    // largest finite component, or take the infinite components' signs alone.
-    FxVec2f v = sim.linear_velocity;
-    if (!is_finite(v)) {
-      v = {std::isinf(v.x) ? std::copysign(1.0f, v.x) : 0.0f, std::isinf(v.y) ? std::copysign(1.0f, v.y) : 0.0f};
-    }
-    const float largest = std::max(std::fabs(v.x), std::fabs(v.y));
-    sim.linear_velocity = largest > 0.0f ? max_speed * normalize((1.0f / largest) * v) : FxVec2f{};
+FxVec2f limited_speed(FxVec2f v, float max_speed) {
+  const float speed_squared = length_squared(v);
+  if (speed_squared <= max_speed * max_speed) return v;
+  if (std::isfinite(speed_squared)) return v * (max_speed / std::sqrt(speed_squared));
+  // Overflowed, or not a number: keep the direction of the largest components, or the infinite
+  // components' signs alone; a NaN component counts as zero.
+  if (!is_finite(v)) {
+    v = {std::isinf(v.x) ? std::copysign(1.0f, v.x) : 0.0f, std::isinf(v.y) ? std::copysign(1.0f, v.y) : 0.0f};
   }
-  const float max_spin = max_angular_speed(settings);
-  const float w = std::isnan(sim.angular_velocity) ? 0.0f : sim.angular_velocity;
-  sim.angular_velocity = std::clamp(w, -max_spin, max_spin);
+  const float largest = std::max(std::fabs(v.x), std::fabs(v.y));
+  return largest > 0.0f ? max_speed * normalize((1.0f / largest) * v) : FxVec2f{};
+}
+
+float limited_spin(float w, float max_spin) { return std::isnan(w) ? 0.0f : std::clamp(w, -max_spin, max_spin); }
+
+void clamp_velocity(const FxSceneSettings& settings, BodySim& sim) {
+  sim.linear_velocity = limited_speed(sim.linear_velocity, settings.max_linear_speed);
+  sim.angular_velocity = limited_spin(sim.angular_velocity, max_angular_speed(settings));
 }
 
 FxVec2f World::origin_offset(std::uint32_t a, std::uint32_t b) const {
@@ -157,6 +165,8 @@ void World::prepare_solver() {
   awake_bodies.clear();
   integrating.clear();
   const float h = settings.dt / static_cast<float>(settings.substeps);
+  // Any more would take a body past max_linear_speed within one substep, where it is clamped anyway.
+  const float max_acceleration = 2.0f * settings.max_linear_speed / h;
   states.resize(records.size() + 1);
   states.back() = FxBodyState{};
   movable.resize(records.size() + 1);
@@ -171,7 +181,7 @@ void World::prepare_solver() {
     state.angular_velocity = sims[i].angular_velocity;
     awake_bodies.push_back(i);
     if (records[i].type != FxBodyType::dynamic) continue;
-    integrating.push_back({i, settings.gravity + sims[i].inv_mass * sims[i].force,
+    integrating.push_back({i, clamped_acceleration(settings.gravity + sims[i].inv_mass * sims[i].force, max_acceleration),
                            1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping)});
   }
   solver.prepare(*this);
@@ -219,12 +229,8 @@ void World::solve_substeps() {
       // Invariant: integrating holds exactly the awake dynamic bodies, with this step's forces.
       for (const VelocityIntegration& body : integrating) {
         FxBodyState& state = states[body.body];
-        FxVec2f v = state.linear_velocity + h * body.acceleration;
-        v *= body.linear_factor;
-        const float speed_squared = length_squared(v);
-        if (speed_squared > max_speed * max_speed) v *= max_speed / std::sqrt(speed_squared);
-        state.linear_velocity = v;
-        state.angular_velocity = std::clamp(state.angular_velocity * body.angular_factor, -max_spin, max_spin);
+        state.linear_velocity = limited_speed(body.linear_factor * (state.linear_velocity + h * body.acceleration), max_speed);
+        state.angular_velocity = limited_spin(state.angular_velocity * body.angular_factor, max_spin);
       }
     }
     if (has_constraints) {

@@ -149,6 +149,11 @@ inline float max_angular_speed(const FxSceneSettings& settings) {
   return 0.25f * 3.14159265f * static_cast<float>(settings.substeps) / settings.dt;
 }
 
+// `v` scaled down to `max_speed` when it is faster; finite whatever `v` is, even infinite or NaN.
+FxVec2f limited_speed(FxVec2f v, float max_speed);
+// `w` clamped to +-max_spin; a NaN spin becomes 0.
+float limited_spin(float w, float max_spin);
+
 // Clamps a body's velocity to the scene's linear and angular speed limits, so that no push,
 // however large, can turn a finite state into an infinite one.
 void clamp_velocity(const FxSceneSettings& settings, BodySim& sim);

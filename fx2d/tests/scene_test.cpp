@@ -140,6 +140,12 @@ TEST(Validation, EntityDefinitionsNameTheBadField) {
   def.material.density = 1.0e-40f;  // positive, but its mass has no finite inverse
   expect_field(def, "density");
   def = {};
+  def.material.density = 1.0e-36f;  // a normal float, but a mass of 1e-36 kg overflows the solver
+  expect_field(def, "density");
+  def = {};
+  def.material.density = 1.0e36f;
+  expect_field(def, "density");
+  def = {};
   def.position = {2.0e7f, 0.0f};
   expect_field(def, "position");
   def = {};
@@ -187,6 +193,45 @@ TEST(Robustness, StepNeverProducesNaNFromExtremeButValidInput) {
     EXPECT_TRUE(is_finite(e->linear_velocity()));
   }
   for (const auto& e : heap) EXPECT_TRUE(is_finite(e->position()));
+}
+
+TEST(Robustness, ForceThatOverflowsTheAccelerationIsClamped) {
+  // Found by the engine fuzzer: 3e38 N on a light body made inv_mass * force infinite, then NaN.
+  FxScene scene;
+  auto box = add_box(scene, {0.0f, 0.0f}, 0.05f);
+  box->apply_force({3.0e38f, -3.0e38f});
+  scene.step();
+  EXPECT_TRUE(is_finite(box->position()));
+  EXPECT_NEAR(length(box->linear_velocity()), scene.settings().max_linear_speed, 1e-2f);
+  EXPECT_GT(box->linear_velocity().x, 0.0f);  // the direction of the force survives
+  EXPECT_LT(box->linear_velocity().y, 0.0f);
+}
+
+TEST(Robustness, PinFarFromALightBodyStaysFinite) {
+  // Found by the engine fuzzer: a pin 1e7 m from a light body makes the 2x2 effective-mass
+  // matrix overflow float (det ~ 1e43), and its inverse filled the velocities with NaN. Such a
+  // joint cannot be solved in float; it must do nothing rather than poison the scene.
+  FxScene scene;
+  add_ground(scene);
+  auto speck = add_box(scene, {0.0f, 0.01f}, 0.01f);
+  auto crate = add_box(scene, {3.0f, 0.5f});
+  scene.add_constraint(std::make_shared<FxRevoluteJoint>(crate, speck, FxVec2f{1.0e7f, 0.0f}));
+  run(scene, 1.0f);
+  for (const auto& body : {speck, crate}) {
+    EXPECT_TRUE(is_finite(body->position()));
+    EXPECT_TRUE(is_finite(body->linear_velocity()));
+    EXPECT_TRUE(std::isfinite(body->angular_velocity()));
+  }
+}
+
+TEST(Validation, JointAnchorsBeyondTheWorldAreRefused) {
+  FxScene scene;
+  auto a = add_box(scene, {0.0f, 0.0f});
+  auto b = add_box(scene, {2.0f, 0.0f});
+  EXPECT_THROW(FxRevoluteJoint(a, b, {3.0e38f, 0.0f}), FxInvalidArgument);
+  EXPECT_THROW(FxDistanceJoint(a, b, {0.0f, 2.0e7f}, {}, 1.0f), FxInvalidArgument);
+  EXPECT_THROW(FxDistanceJoint(a, b, {}, {}, 1.0e30f), FxInvalidArgument);
+  EXPECT_NO_THROW(FxDistanceJoint(a, b, {0.0f, 1.0e6f}, {}, 1.0e6f));
 }
 
 // Exact bit patterns of every pose, so "equal" means bit-identical.

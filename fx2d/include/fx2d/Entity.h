@@ -34,6 +34,14 @@ struct FxMaterial {
   float restitution = 0.0f;       // dimensionless, 0..1: bounce above the scene's threshold speed
 };
 
+// The mass properties a dynamic body may have (its shape times its density); create_entity
+// refuses others. Any finite float mass is not enough: beyond these, an effective mass or an
+// impulse in the solver would overflow float.
+inline constexpr float fx_min_mass = 1.0e-9f;                 // kg
+inline constexpr float fx_max_mass = 1.0e20f;                 // kg
+inline constexpr float fx_min_rotational_inertia = 1.0e-18f;  // kg m^2
+inline constexpr float fx_max_rotational_inertia = 1.0e32f;   // kg m^2
+
 struct FxEntityDef {
   FxBodyType type = FxBodyType::dynamic;
   FxShape shape = FxShape::box(0.5f, 0.5f);
