@@ -135,30 +135,42 @@ template <LaneFn LaneSolve>
   }
 }
 
-// The separation of every point of one batch at the bodies' current poses, from how far each
-// anchor moved and turned since the step began. It reads poses and writes only the batch, so
-// lanes never conflict, even in an overflow batch.
+// Relative pose of the two bodies of every lane since the step began, gathered into columns.
+struct LanePoses {
+  alignas(32) float dpx[fx_lanes], dpy[fx_lanes], aqc[fx_lanes], aqs[fx_lanes], bqc[fx_lanes], bqs[fx_lanes];
+};
+
+// Point `Point` of every lane: its separation at the current poses, from how far each anchor
+// moved and turned since the step began.
+template <int Point>
+[[gnu::always_inline]] inline void update_point_separations(FxContactBatch& __restrict k, const LanePoses& __restrict q) {
+  // check-vectorized(2): the lane loop below, for the first and the second point, must be vectorised
+  // (not unrolled first: a fully unrolled loop is left to the weaker straight-line vectoriser)
+#pragma GCC unroll 1
+  for (int lane = 0; lane < fx_lanes; ++lane) {
+    const float rax = k.anchor_ax[Point][lane], ray = k.anchor_ay[Point][lane];
+    const float rbx = k.anchor_bx[Point][lane], rby = k.anchor_by[Point][lane];
+    const float gap_x = q.dpx[lane] + ((q.bqc[lane] * rbx - q.bqs[lane] * rby) - (q.aqc[lane] * rax - q.aqs[lane] * ray));
+    const float gap_y = q.dpy[lane] + ((q.bqs[lane] * rbx + q.bqc[lane] * rby) - (q.aqs[lane] * rax + q.aqc[lane] * ray));
+    k.separation[Point][lane] = gap_x * k.normal_x[lane] + gap_y * k.normal_y[lane] + k.adjusted_separation[Point][lane];
+  }
+}
+
+// Every point of one batch. It reads poses and writes only the batch, so lanes never conflict,
+// even in an overflow batch.
 template <int Points>
 [[gnu::always_inline]] inline void update_batch_separations(FxContactBatch& __restrict k,
                                                             const FxBodyState* __restrict states) {
-  alignas(32) float dpx[fx_lanes], dpy[fx_lanes], aqc[fx_lanes], aqs[fx_lanes], bqc[fx_lanes], bqs[fx_lanes];
+  LanePoses q;
   for (int lane = 0; lane < fx_lanes; ++lane) {
     const FxBodyState& a = states[k.body_a[lane]];
     const FxBodyState& b = states[k.body_b[lane]];
-    dpx[lane] = b.delta_position.x - a.delta_position.x, dpy[lane] = b.delta_position.y - a.delta_position.y;
-    aqc[lane] = a.delta_rotation.c, aqs[lane] = a.delta_rotation.s;
-    bqc[lane] = b.delta_rotation.c, bqs[lane] = b.delta_rotation.s;
+    q.dpx[lane] = b.delta_position.x - a.delta_position.x, q.dpy[lane] = b.delta_position.y - a.delta_position.y;
+    q.aqc[lane] = a.delta_rotation.c, q.aqs[lane] = a.delta_rotation.s;
+    q.bqc[lane] = b.delta_rotation.c, q.bqs[lane] = b.delta_rotation.s;
   }
-  // check-vectorized(2): the lane loop below, for one and two points, must be vectorised
-  for (int lane = 0; lane < fx_lanes; ++lane) {
-    for (int i = 0; i < Points; ++i) {
-      const float rax = k.anchor_ax[i][lane], ray = k.anchor_ay[i][lane];
-      const float rbx = k.anchor_bx[i][lane], rby = k.anchor_by[i][lane];
-      const float gap_x = dpx[lane] + ((bqc[lane] * rbx - bqs[lane] * rby) - (aqc[lane] * rax - aqs[lane] * ray));
-      const float gap_y = dpy[lane] + ((bqs[lane] * rbx + bqc[lane] * rby) - (aqs[lane] * rax + aqc[lane] * ray));
-      k.separation[i][lane] = gap_x * k.normal_x[lane] + gap_y * k.normal_y[lane] + k.adjusted_separation[i][lane];
-    }
-  }
+  update_point_separations<0>(k, q);
+  if constexpr (Points == 2) update_point_separations<1>(k, q);
 }
 
 template <LaneFn OnePoint, LaneFn TwoPoints>
