@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "engines/plugin_engine.h"
 #include "errors.h"
 #include "scene_loader.h"
 
@@ -58,7 +59,11 @@ void EngineOptions::add_to(CLI::App& command) {
   command.add_option("--engine", names, "Engines to run, comma-separated, or all")
       ->delimiter(',')
       ->allow_extra_args(false)
-      ->check(CLI::IsMember(choices))
+      ->check(CLI::IsMember(choices) | CLI::Validator(
+                                           [](std::string& name) {
+                                             return is_plugin_engine_name(name) ? std::string() : "not a plugin";
+                                           },
+                                           "plugin:PATH[|LABEL]"))
       ->capture_default_str();
 }
 
@@ -67,6 +72,8 @@ std::vector<const EngineInfo*> EngineOptions::selected() const {
   std::vector<const EngineInfo*> engines;
   for (const EngineInfo& engine : engine_registry())
     if (all || std::ranges::find(names, engine.name) != names.end()) engines.push_back(&engine);
+  for (const std::string& name : names)  // plugins after the registry's engines, in the order given
+    if (is_plugin_engine_name(name)) engines.push_back(find_engine(name));
   return engines;
 }
 

@@ -2,7 +2,8 @@
 // trust the answer (compare.h states the invariants, statistics.h the method).
 //
 // Reads top to bottom: the samples each row compares, one row per metric of a pair of runs with
-// the accuracy deltas beside the step time, the A/B pairing of runs by engine, scene and size
+// the accuracy deltas beside the step time, the exact instructions row where both runs were
+// counted (--counter instructions), the A/B pairing of runs by engine, scene and size
 // (with its refusals and warnings), the cross-engine pairing within one file, the verdict
 // counts, the three renderers, and the command line.
 #include "compare.h"
@@ -17,6 +18,7 @@
 
 #include "commands.h"
 #include "engine.h"
+#include "interleave.h"
 #include "results_h5.h"
 #include "summary.h"
 #include "text_table.h"
@@ -25,6 +27,7 @@ namespace fxbench {
 namespace {
 
 constexpr const char* step_metric = "ms_per_step";
+constexpr const char* instructions_metric = "instructions_per_step";
 
 // One metric of one run, repeat-major [repeats x steps] like RunRecord's own series.
 struct MetricSamples {
@@ -44,10 +47,10 @@ std::vector<MetricSamples> metrics_of(const RunRecord& run, bool with_phases) {
   return metrics;
 }
 
-// A metric that measured nothing (a phase timer compiled out, a counter the machine lacks) has
-// no ratio: its row is left out rather than shown as 0/0.
-bool measured(const std::vector<double>& repeat_means) {
-  return !repeat_means.empty() && std::ranges::all_of(repeat_means, [](double mean) { return mean > 0.0; });
+// A metric that measured nothing (a phase timer compiled out, a counter the machine lacks, a
+// phase that takes no time in most steps) has no ratio: its row is left out rather than shown as 0/0.
+bool measured(const std::vector<double>& repeat_figures) {
+  return !repeat_figures.empty() && std::ranges::all_of(repeat_figures, [](double figure) { return figure > 0.0; });
 }
 
 // --- accuracy -----------------------------------------------------------------------------------
@@ -94,20 +97,28 @@ bool steps_correspond(const RunPair& pair) {
          pair.a.steps == pair.b.steps;
 }
 
-std::optional<CompareRow> speed_row(const RunPair& pair, const MetricSamples& a, const MetricSamples& b,
-                                    const CompareSettings& settings) {
-  const auto steps_a = static_cast<std::size_t>(pair.a.steps);
-  const auto steps_b = static_cast<std::size_t>(pair.b.steps);
-  const std::vector<double> repeats_a = row_means(a.values, steps_a);
-  const std::vector<double> repeats_b = row_means(b.values, steps_b);
-  if (!measured(repeats_a) || !measured(repeats_b)) return std::nullopt;
-
+// The row of `metric` for this pair, with only what names it filled in.
+CompareRow row_for(const RunPair& pair, const std::string& metric) {
   CompareRow row;
   row.engine = pair.b.engine;
   row.against = pair.a.engine;
   row.scene = pair.a.scene;
   row.bodies = pair.a.bodies;
-  row.metric = a.name;
+  row.metric = metric;
+  row.same_physics = pair.same_physics;
+  return row;
+}
+
+std::optional<CompareRow> speed_row(const RunPair& pair, const MetricSamples& a, const MetricSamples& b,
+                                    const CompareSettings& settings) {
+  const auto steps_a = static_cast<std::size_t>(pair.a.steps);
+  const auto steps_b = static_cast<std::size_t>(pair.b.steps);
+  // Each repeat's median step, not its mean: statistics.h says why (preemption).
+  const std::vector<double> repeats_a = row_medians(a.values, steps_a);
+  const std::vector<double> repeats_b = row_medians(b.values, steps_b);
+  if (!measured(repeats_a) || !measured(repeats_b)) return std::nullopt;
+
+  CompareRow row = row_for(pair, a.name);
   row.a = median(repeats_a);
   row.b = median(repeats_b);
   row.estimate = bootstrap_median_ratio(repeats_a, repeats_b);
@@ -117,8 +128,7 @@ std::optional<CompareRow> speed_row(const RunPair& pair, const MetricSamples& a,
   row.test_name = paired ? "wilcoxon-signed-rank-paired" : "mann-whitney-u";
   row.repeats_a = static_cast<int>(repeats_a.size());
   row.repeats_b = static_cast<int>(repeats_b.size());
-  row.speed = decide_speed(row.estimate, row.test, std::min(row.repeats_a, row.repeats_b), settings.rules);
-  row.same_physics = pair.same_physics;
+  row.speed = decide_speed(row.estimate, *row.test, std::min(row.repeats_a, row.repeats_b), settings.rules);
   if (a.name == step_metric) {
     row.accuracy = accuracy_deltas(pair.a, pair.b, pair.primary_metric, settings.accuracy_tolerance);
     row.primary_metric = pair.primary_metric;
@@ -126,7 +136,23 @@ std::optional<CompareRow> speed_row(const RunPair& pair, const MetricSamples& a,
   return row;
 }
 
-// One row per metric measured in both runs, in A's order.
+// One count per run, exact: the ratio is its own interval and there is nothing to test.
+std::optional<CompareRow> instructions_row(const RunPair& pair, const CompareSettings& settings) {
+  const std::optional<InstructionCount>& a = pair.a.instruction_count;
+  const std::optional<InstructionCount>& b = pair.b.instruction_count;
+  if (!a || !b || a->per_step() <= 0.0) return std::nullopt;
+  CompareRow row = row_for(pair, instructions_metric);
+  row.a = a->per_step();
+  row.b = b->per_step();
+  const double ratio = row.b / row.a;
+  row.estimate = {ratio, {ratio, ratio}};
+  row.test_name = "exact";
+  row.repeats_a = row.repeats_b = 1;
+  row.speed = {decide_exact(row.a, row.b, settings.instructions_tolerance), std::nullopt};
+  return row;
+}
+
+// One row per metric measured in both runs, in A's order, then the instruction counts.
 void append_rows(const RunPair& pair, const CompareSettings& settings, std::vector<CompareRow>& rows) {
   const std::vector<MetricSamples> metrics_b = metrics_of(pair.b, pair.with_phases);
   for (const MetricSamples& a : metrics_of(pair.a, pair.with_phases)) {
@@ -134,6 +160,19 @@ void append_rows(const RunPair& pair, const CompareSettings& settings, std::vect
     if (b == metrics_b.end()) continue;
     if (auto row = speed_row(pair, a, *b, settings)) rows.push_back(std::move(*row));
   }
+  if (auto row = instructions_row(pair, settings)) rows.push_back(std::move(*row));
+}
+
+bool counted_on_one_side(const RunPair& pair) {
+  return pair.a.instruction_count.has_value() != pair.b.instruction_count.has_value();
+}
+
+// Said once per comparison, however many pairs it concerns.
+void warn_on_one_sided_counts(int pairs, const std::string& label, std::vector<std::string>& warnings) {
+  if (pairs == 0) return;
+  warnings.push_back(label + ": " + std::to_string(pairs) + (pairs == 1 ? " pair" : " pairs") +
+                     " of runs with instruction counts on one side only, so no instructions_per_step row for " +
+                     (pairs == 1 ? "it" : "them") + "; run both with --counter instructions");
 }
 
 std::string primary_metric_of(const ResultSet& results, const RunRecord& run) {
@@ -177,7 +216,7 @@ void warn_on_provenance(const Provenance& a, const Provenance& b, const std::str
 // --- verdict counts -------------------------------------------------------------------------------
 
 bool gates(const CompareReport& report, const CompareRow& row) {
-  return !report.cross_engine && row.metric == step_metric;
+  return !report.cross_engine && (row.metric == step_metric || row.metric == instructions_metric);
 }
 
 bool is_regression(const CompareReport& report, const CompareRow& row) {
@@ -197,11 +236,14 @@ std::string formatted(const char* format, double value) {
 }
 
 std::string value_text(const std::string& metric, double value) {
-  if (metric == "cycles_per_step") return formatted("%.0f", value);
+  if (metric == "cycles_per_step" || metric == instructions_metric) return formatted("%.0f", value);
   return formatted("%.4g ms", value);
 }
 
-std::string p_text(double p) { return p < 0.001 ? std::string("<0.001") : formatted("%.3f", p); }
+std::string p_text(const std::optional<RankTest>& test) {
+  if (!test) return "-";
+  return test->p_value < 0.001 ? std::string("<0.001") : formatted("%.3f", test->p_value);
+}
 
 std::string verdict_text(const CompareRow& row) {
   std::string text = row.verdict();
@@ -251,7 +293,7 @@ Table speed_table(const CompareReport& report, bool emphasise_regressions) {
     cells.insert(cells.end(), {row.scene, std::to_string(row.bodies), row.metric, value_text(row.metric, row.a),
                                value_text(row.metric, row.b), formatted("%.3f", row.estimate.ratio),
                                formatted("[%.3f, ", row.estimate.ci.low) + formatted("%.3f]", row.estimate.ci.high),
-                               p_text(row.test.p_value)});
+                               p_text(row.test)});
     if (ab) cells.push_back(row.metric == step_metric ? physics_text(row.same_physics.value_or(false)) : "");
     const bool emphasised = emphasise_regressions && is_regression(report, row);
     cells.push_back(emphasised ? "**" + verdict_text(row) + "**" : verdict_text(row));
@@ -277,12 +319,19 @@ Table accuracy_table(const CompareReport& report) {
 
 std::string method_note(const CompareReport& report) {
   const CompareSettings& settings = report.settings;
-  return "B/A: ratio of medians of per-repeat ms/step; 95% percentile bootstrap interval (" +
+  const bool counted = std::ranges::find(report.rows, instructions_metric, &CompareRow::metric) != report.rows.end();
+  const std::string instructions_note =
+      counted ? " instructions_per_step: exact counts of the step loop under callgrind; a change counts beyond +-" +
+                    formatted("%g%%", 100.0 * settings.instructions_tolerance) + "."
+              : "";
+  return "a, b: median over repeats of each repeat's median step; B/A: their ratio, with a 95% percentile bootstrap "
+         "interval (" +
          std::to_string(bootstrap_resamples) + " resamples, fixed seed); a change counts when p < " +
          formatted("%g", settings.rules.alpha) + " and the interval clears the noise band +-" +
          formatted("%g%%", 100.0 * settings.rules.noise) + ". Accuracy tolerance " +
          formatted("%g%%", 100.0 * settings.accuracy_tolerance) + " + " + formatted("%g mm", accuracy_floor_m * 1e3) +
-         "; penetration, escaped and nan are errors everywhere, displacement where it is the primary metric.";
+         "; penetration, escaped and nan are errors everywhere, displacement where it is the primary metric." +
+         instructions_note;
 }
 
 std::string markdown_table(const Table& table) {
@@ -319,7 +368,7 @@ nlohmann::ordered_json row_json(const CompareReport& report, const CompareRow& r
       {"ratio", row.estimate.ratio},
       {"ci_low", row.estimate.ci.low},
       {"ci_high", row.estimate.ci.high},
-      {"p_value", row.test.p_value},
+      {"p_value", nullptr},
       {"test", row.test_name},
       {"repeats_a", row.repeats_a},
       {"repeats_b", row.repeats_b},
@@ -329,6 +378,7 @@ nlohmann::ordered_json row_json(const CompareReport& report, const CompareRow& r
       {"physics", nullptr},
       {"regression", is_regression(report, row)},
   };
+  if (row.test) json["p_value"] = row.test->p_value;
   if (row.speed.repeats_needed) json["repeats_needed"] = *row.speed.repeats_needed;
   if (row.same_physics) json["physics"] = *row.same_physics ? "same" : "changed";
   if (!row.accuracy.empty()) json["accuracy"] = accuracy_json(row);
@@ -343,23 +393,14 @@ struct CompareOptions {
   CLI::Option* b_option = nullptr;
   std::string baseline;
   CompareSettings settings;
-  bool json = false;
-  bool markdown = false;
+  CompareOutput output;
 };
 
 ExitCode compare_command(const CompareOptions& options) {
   const std::optional<std::string> b_path =
       options.b_option->count() > 0 ? std::optional<std::string>(options.b_path) : std::nullopt;
   const CompareReport report = compare_files(options.a_path, b_path, options.baseline, options.settings);
-  for (const std::string& warning : report.warnings) std::cerr << "fx2d-bench: warning: " << warning << '\n';
-  if (options.json)
-    std::cout << compare_json(report).dump(2) << '\n';
-  else if (options.markdown)
-    std::cout << compare_markdown(report);
-  else
-    std::cout << compare_table(report);
-  std::cout.flush();
-  return report.exit_code();
+  return print_compare_report(report, options.output);
 }
 
 }  // namespace
@@ -395,7 +436,7 @@ ExitCode CompareReport::exit_code() const {
 std::string CompareReport::headline() const {
   std::map<std::string, int> counts;
   for (const CompareRow& row : rows) {
-    if (row.metric != step_metric) continue;
+    if (cross_engine ? row.metric != step_metric : !gates(*this, row)) continue;
     if (cross_engine)
       ++counts[to_string(row.speed.speed)];
     else if (is_regression(*this, row))
@@ -423,6 +464,7 @@ CompareReport compare_results(const ResultSet& a, const std::string& a_label, co
   if (!settings.force) warn_on_provenance(a.provenance, b.provenance, pair_label, report.warnings);
   const std::map<RunKey, const RunRecord*> runs_a = runs_by_key(a, a_label);
   const std::map<RunKey, const RunRecord*> runs_b = runs_by_key(b, b_label);
+  int one_sided_counts = 0;
   for (const RunRecord& run_a : a.runs) {
     const auto match = runs_b.find(RunKey{run_a.engine, run_a.scene, run_a.bodies});
     if (match == runs_b.end()) {
@@ -433,8 +475,11 @@ CompareReport compare_results(const ResultSet& a, const std::string& a_label, co
     if (run_a.scene_hash != run_b.scene_hash && !settings.force)
       throw InputError(pair_label + ": " + describe(run_a) + " is a different scene in each (scene hash " +
                        run_a.scene_hash + " vs " + run_b.scene_hash + "); pass --force to compare them anyway");
-    append_rows({run_a, run_b, primary_metric_of(a, run_a), same_physics(run_a, run_b), true}, settings, report.rows);
+    const RunPair pair{run_a, run_b, primary_metric_of(a, run_a), same_physics(run_a, run_b), true};
+    one_sided_counts += counted_on_one_side(pair) ? 1 : 0;
+    append_rows(pair, settings, report.rows);
   }
+  warn_on_one_sided_counts(one_sided_counts, pair_label, report.warnings);
   for (const auto& [key, run_b] : runs_b)
     if (!runs_a.contains(key)) report.warnings.push_back(describe(*run_b) + " is only in " + b_label);
   if (report.rows.empty())
@@ -450,15 +495,19 @@ CompareReport compare_engines(const ResultSet& results, const std::string& label
   const auto same_scene = [](const RunRecord& x, const RunRecord& y) {
     return x.scene == y.scene && x.bodies == y.bodies && x.scene_hash == y.scene_hash;
   };
+  int one_sided_counts = 0;
   for (const RunRecord& subject_run : results.runs) {
     if (subject_run.engine != subject) continue;
     for (const RunRecord& other : results.runs) {
       if (other.engine == subject || !same_scene(other, subject_run)) continue;
       const RunRecord& a = baseline.empty() ? other : subject_run;
       const RunRecord& b = baseline.empty() ? subject_run : other;
-      append_rows({a, b, primary_metric_of(results, a), std::nullopt, false}, settings, report.rows);
+      const RunPair pair{a, b, primary_metric_of(results, a), std::nullopt, false};
+      one_sided_counts += counted_on_one_side(pair) ? 1 : 0;
+      append_rows(pair, settings, report.rows);
     }
   }
+  warn_on_one_sided_counts(one_sided_counts, label, report.warnings);
   if (report.rows.empty())
     throw InputError(label + ": no scene has a " + subject + " run and a run of another engine; nothing to compare");
   return report;
@@ -467,6 +516,7 @@ CompareReport compare_engines(const ResultSet& results, const std::string& label
 CompareReport compare_files(const std::string& a_path, const std::optional<std::string>& b_path,
                             const std::string& baseline, const CompareSettings& settings) {
   const ResultSet a = read_results_h5(a_path);
+  if (const auto ab = split_variants(a); ab && !b_path) return compare_results(ab->a, "A", ab->b, "B", settings);
   if (!b_path) return compare_engines(a, a_path, baseline, settings);
   return compare_results(a, a_path, read_results_h5(*b_path), *b_path, settings);
 }
@@ -481,6 +531,7 @@ nlohmann::ordered_json compare_json(const CompareReport& report) {
       {"noise", settings.rules.noise},
       {"alpha", settings.rules.alpha},
       {"accuracy_tolerance", settings.accuracy_tolerance},
+      {"instructions_tolerance", settings.instructions_tolerance},
       {"bootstrap", {{"resamples", bootstrap_resamples}, {"seed", bootstrap_seed}, {"confidence", confidence_level}}},
       {"headline", report.headline()},
       {"rows", rows},
@@ -496,6 +547,18 @@ std::string compare_markdown(const CompareReport& report) {
 std::string compare_table(const CompareReport& report) {
   return report.headline() + "\n\n" + aligned_columns(speed_table(report, false)) + "\n" +
          aligned_columns(accuracy_table(report)) + "\n" + method_note(report) + "\n";
+}
+
+ExitCode print_compare_report(const CompareReport& report, const CompareOutput& output) {
+  for (const std::string& warning : report.warnings) std::cerr << "fx2d-bench: warning: " << warning << '\n';
+  if (output.json)
+    std::cout << compare_json(report).dump(2) << '\n';
+  else if (output.markdown)
+    std::cout << compare_markdown(report);
+  else
+    std::cout << compare_table(report);
+  std::cout.flush();
+  return report.exit_code();
 }
 
 void register_compare(CLI::App& app, int& exit_status) {
@@ -524,8 +587,13 @@ void register_compare(CLI::App& app, int& exit_status) {
                    "Relative change in an accuracy figure that counts (plus 0.1 mm for lengths)")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
-  CLI::Option* json = compare->add_flag("--json", options->json, "Print one JSON object (fx2d-bench.compare/1)");
-  compare->add_flag("--markdown", options->markdown, "Print a Markdown report for a pull-request comment")->excludes(json);
+  compare
+      ->add_option("--instructions-tolerance", options->settings.instructions_tolerance,
+                   "Relative change in instructions per step that counts (runs with --counter instructions)")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
+  CLI::Option* json = compare->add_flag("--json", options->output.json, "Print one JSON object (fx2d-bench.compare/1)");
+  compare->add_flag("--markdown", options->output.markdown, "Print a Markdown report for a pull-request comment")->excludes(json);
   compare->add_flag("--force", options->settings.force,
                     "Compare runs of different scenes, and do not warn when machine, compiler or flags differ");
   compare->callback([options, &exit_status] { exit_status = compare_command(*options); });

@@ -5,9 +5,11 @@
 //
 // Invariants: a verdict is a deterministic function of the two files and the settings
 // (statistics.h); two runs of the same scene name and size but different scene hashes are never
-// compared without `force`; the A/B exit code is exit_regression when any ms_per_step row is
-// slower or less accurate beyond tolerance, else exit_inconclusive when any ms_per_step row is
-// inconclusive, else exit_ok; the cross-engine view is a report, not a gate, and exits exit_ok.
+// compared without `force`; the A/B exit code is exit_regression when any gating row (ms_per_step,
+// and instructions_per_step where both files have instruction counts) is slower or less accurate
+// beyond tolerance, else exit_inconclusive when any gating row is inconclusive, else exit_ok; the
+// cross-engine view is a report, not a gate, and exits exit_ok. Instruction counts are exact, so
+// their rows have no test and are never inconclusive.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -26,6 +28,7 @@ inline constexpr const char* compare_schema = "fx2d-bench.compare/1";
 struct CompareSettings {
   VerdictRules rules;
   double accuracy_tolerance = 0.05;  // relative; a metre figure also gets accuracy_floor_m
+  double instructions_tolerance = 0.005;  // relative change in instructions per step that counts
   bool force = false;                // compare different scenes; no provenance warnings
 };
 
@@ -51,13 +54,14 @@ struct CompareRow {
   std::string against;   // A's engine: the same in A/B mode, the baseline in the cross-engine view
   std::string scene;
   int bodies = 0;
-  std::string metric;    // ms_per_step, cycles_per_step, phase:<name>
-  double a = 0.0;        // median over repeats of the per-step mean
+  std::string metric;    // ms_per_step, cycles_per_step, phase:<name>, instructions_per_step
+  double a = 0.0;        // median over repeats of each repeat's median step (what is judged, statistics.h);
+                         // for instructions, the exact count per step
   double b = 0.0;
-  RatioEstimate estimate;
-  RankTest test;
-  std::string test_name; // wilcoxon-signed-rank-paired or mann-whitney-u
-  int repeats_a = 0;
+  RatioEstimate estimate;         // for instructions, the exact ratio: ci.low = ci.high = ratio
+  std::optional<RankTest> test;   // empty for instructions: an exact figure has nothing to test
+  std::string test_name; // wilcoxon-signed-rank-paired, mann-whitney-u, or exact
+  int repeats_a = 0;     // for instructions, 1: one counted loop
   int repeats_b = 0;
   SpeedVerdict speed;
   std::optional<bool> same_physics;   // A/B only: same state hashes
@@ -98,5 +102,16 @@ CompareReport compare_files(const std::string& a_path, const std::optional<std::
 nlohmann::ordered_json compare_json(const CompareReport& report);
 std::string compare_markdown(const CompareReport& report);
 std::string compare_table(const CompareReport& report);
+
+// How a command that ends in a verdict (`compare`, `ab`) prints it: the terminal table unless
+// one of these is set (the commands let at most one be).
+struct CompareOutput {
+  bool json = false;
+  bool markdown = false;
+};
+
+// The report's warnings on stderr, the report on stdout in the chosen format; returns the
+// report's exit code, which is the command's.
+ExitCode print_compare_report(const CompareReport& report, const CompareOutput& output);
 
 }  // namespace fxbench

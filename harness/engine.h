@@ -3,8 +3,11 @@
 // An adapter builds a SceneSpec into its engine (untimed), steps it (timed by the caller), and
 // reports state in the spec's body order so that the harness can measure every engine with the
 // same geometry. Adapters are listed in engines/registry.cpp; nothing else names an engine.
+// Besides the registry's own, an engine can be a plugin: a build of Fx2D loaded from a shared
+// library (engines/plugin_engine.h), named "plugin:/path/to/libfx2d_bench_plugin.so".
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -42,15 +45,19 @@ class Engine {
 };
 
 struct EngineInfo {
-  std::string name;       // what --engine selects: "fx2d", "box2d", "ode"
-  std::string version;    // the library's version, e.g. "2.4.1"
+  std::string name;       // what --engine selects: "fx2d", "box2d", "ode", or a plugin's name
+  std::string version;    // the library's version, e.g. "2.4.1"; a plugin adds which build it is
   std::string settings;   // one line describing the solver settings it reads from a scene
-  std::unique_ptr<Engine> (*make)();
+  // Makes a fresh, unbuilt instance. A function object, so a plugin's entry can hold its library.
+  std::function<std::unique_ptr<Engine>()> make;
+  std::string solver;     // the scene's /solver/<solver> block it reads: "fx2d" for an Fx2D plugin
 };
 
 // Every engine the harness knows, in a fixed order.
 std::span<const EngineInfo> engine_registry();
-// The entry named `name`, or nullptr.
+// The entry named `name`, or nullptr. A name "plugin:PATH" or "plugin:PATH|LABEL" loads the
+// plugin at PATH once per process (named LABEL, or the whole name) and returns its entry, which
+// lives as long as the process; a plugin that cannot be loaded throws InputError.
 const EngineInfo* find_engine(const std::string& name);
 
 }  // namespace fxbench

@@ -2,13 +2,14 @@
 #include "h5_tables.h"
 
 #include <hdf5.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <stdexcept>
 #include <utility>
 
+#include "atomic_file.h"
 #include "errors.h"
+#include "file_integrity.h"
 #include "h5_types.h"
 #include "results_h5.h"
 
@@ -19,6 +20,10 @@ namespace {
 class TableAppender {
  public:
   TableAppender(hid_t file, std::string path) : file_(file), path_(std::move(path)) {}
+
+  void root_attribute(const std::string& name, const std::string& value) const {
+    attribute(file_, "/ attribute " + name, name, value);
+  }
 
   void append(const H5Table& table) const {
     const std::size_t rows = row_count(table);
@@ -108,43 +113,33 @@ class TableAppender {
   std::string path_;
 };
 
-// Turns HDF5's own error printing off for its lifetime: failures reach the user as our messages.
-class QuietErrors {
- public:
-  QuietErrors() {
-    H5Eget_auto2(H5E_DEFAULT, &function_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  QuietErrors(const QuietErrors&) = delete;
-  QuietErrors& operator=(const QuietErrors&) = delete;
-  ~QuietErrors() { H5Eset_auto2(H5E_DEFAULT, function_, data_); }
-
- private:
-  H5E_auto2_t function_ = nullptr;
-  void* data_ = nullptr;
-};
-
 }  // namespace
+
+void write_table_file_h5(const std::string& path, std::span<const std::pair<std::string, std::string>> root_attributes,
+                         std::span<const H5Table> tables) {
+  const SilentHdf5Errors quiet;
+  H5Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  if (!file.valid()) throw std::runtime_error(path + ": cannot create; is its directory there and writable?");
+  const TableAppender appender(file.get(), path);
+  for (const auto& [name, value] : root_attributes) appender.root_attribute(name, value);
+  for (const H5Table& table : tables) appender.append(table);
+  if (!file.close()) throw std::runtime_error(path + ": could not write the file to disk");
+}
 
 void write_results_with_tables_h5(const ResultSet& results, std::span<const H5Table> tables, const std::string& path,
                                   bool overwrite) {
   namespace fs = std::filesystem;
   if (!overwrite && fs::exists(path)) throw InputError(path + ": exists; pass --force to overwrite it");
-  const std::string partial = path + ".tables." + std::to_string(getpid());
-  try {
+  write_atomically(path, [&](const std::string& partial) {
     write_results_h5(results, partial, true);
-    const QuietErrors quiet;
+    const SilentHdf5Errors quiet;
     H5Handle file(H5Fopen(partial.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
     if (!file.valid()) throw std::runtime_error(path + ": could not reopen " + partial);
     const TableAppender appender(file.get(), path);
     for (const H5Table& table : tables) appender.append(table);
     if (!file.close()) throw std::runtime_error(path + ": could not write the file to disk");
-    fs::rename(partial, path);
-  } catch (...) {
-    std::error_code ignored;
-    fs::remove(partial, ignored);
-    throw;
-  }
+    seal_h5_file(partial);  // the tables changed the bytes the results' seal covered
+  });
 }
 
 }  // namespace fxbench

@@ -31,6 +31,23 @@ class H5Handle {
   herr_t (*close_)(hid_t);
 };
 
+// Turns HDF5's automatic error-stack printing off for its lifetime, so that failures reach the
+// user only as the harness's own one-line messages.
+class SilentHdf5Errors {
+ public:
+  SilentHdf5Errors() {
+    H5Eget_auto2(H5E_DEFAULT, &saved_function_, &saved_data_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  SilentHdf5Errors(const SilentHdf5Errors&) = delete;
+  SilentHdf5Errors& operator=(const SilentHdf5Errors&) = delete;
+  ~SilentHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, saved_function_, saved_data_); }
+
+ private:
+  H5E_auto2_t saved_function_ = nullptr;
+  void* saved_data_ = nullptr;
+};
+
 // How each C++ number type is stored (little-endian, fixed width) and held in memory.
 template <class T>
 struct H5Stored;

@@ -34,6 +34,10 @@ int main(int argc, char** argv) {
   fxbench::register_sweep(app, fxbench::join_command_line(argc, argv));
   fxbench::register_stability(app, fxbench::join_command_line(argc, argv));
   fxbench::register_report(app);
+  fxbench::register_count_instructions(app);
+  fxbench::register_ab(app, fxbench::join_command_line(argc, argv), status);
+  fxbench::register_gate(app, status);
+  fxbench::register_history(app);
   try {
     app.parse(argc, argv);
     return status;

@@ -29,6 +29,8 @@
 #include "commands.h"
 #include "compare.h"
 #include "errors.h"
+#include "file_integrity.h"
+#include "h5_types.h"
 #include "results_h5.h"
 
 extern char** environ;
@@ -56,22 +58,6 @@ struct ReportOptions {
 
 // --- the inputs -----------------------------------------------------------------------------------
 
-// HDF5 prints its own error stack on failure; the report reports in one line instead.
-class QuietHdf5 {
- public:
-  QuietHdf5() {
-    H5Eget_auto2(H5E_DEFAULT, &saved_function_, &saved_data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~QuietHdf5() { H5Eset_auto2(H5E_DEFAULT, saved_function_, saved_data_); }
-  QuietHdf5(const QuietHdf5&) = delete;
-  QuietHdf5& operator=(const QuietHdf5&) = delete;
-
- private:
-  H5E_auto2_t saved_function_ = nullptr;
-  void* saved_data_ = nullptr;
-};
-
 struct Hid {
   hid_t id;
   herr_t (*close)(hid_t);
@@ -82,7 +68,7 @@ struct Hid {
 
 // The root attribute `schema` of an HDF5 file, or "" when it has none that is a string.
 std::string root_schema(const std::string& path) {
-  const QuietHdf5 quiet;
+  const SilentHdf5Errors quiet;  // the report reports in one line instead
   if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError(path + ": not an HDF5 file");
   const Hid file{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
   if (file.id < 0) throw InputError(path + ": cannot open: the HDF5 file is truncated or damaged");
@@ -104,6 +90,11 @@ std::string root_schema(const std::string& path) {
 // damaged one is named here; a history file's layout is the renderer's to read.
 void check_h5_input(const std::string& path) {
   if (!fs::is_regular_file(path)) throw InputError(path + ": no such file");
+  // A sealed file is checked against its seal before libhdf5 opens it (file_integrity.h).
+  if (carries_h5_seal(path)) {
+    read_results_h5(path);
+    return;
+  }
   const std::string schema = root_schema(path);
   if (schema == results_schema) {
     read_results_h5(path);

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,19 @@ struct AccuracySample {
 
   // Field by field, exact: what a round trip through a result file must preserve.
   friend bool operator==(const AccuracySample&, const AccuracySample&) = default;
+};
+
+// The instructions one step loop executed, counted under valgrind (instruction_counter.h): exact
+// and the same on every run of one binary on one scene, so compared without statistics.
+struct InstructionCount {
+  std::uint64_t instructions = 0;  // executed by the whole loop, callgrind's Ir
+  int steps = 0;                   // steps the loop took, from a freshly built instance (building not counted)
+  std::string tool;                // how they were counted: "callgrind"
+  std::string tool_version;        // e.g. "valgrind-3.19.0"
+
+  double per_step() const { return steps > 0 ? static_cast<double>(instructions) / steps : 0.0; }
+
+  friend bool operator==(const InstructionCount&, const InstructionCount&) = default;
 };
 
 // One engine on one scene: `repeats` timed repeats of `steps` steps each.
@@ -51,6 +65,9 @@ struct RunRecord {
   int hash_every = 0;
   std::string final_state_hash;
   bool deterministic = true;       // every repeat ended with the same final state hash
+
+  // Only when `run --counter instructions` asked for it.
+  std::optional<InstructionCount> instruction_count;
 
   friend bool operator==(const RunRecord&, const RunRecord&) = default;
 };

@@ -7,14 +7,10 @@
 #include "results_h5.h"
 
 #include <hdf5.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
@@ -23,28 +19,13 @@
 #include <utility>
 #include <vector>
 
+#include "atomic_file.h"
 #include "errors.h"
+#include "file_integrity.h"
 #include "h5_types.h"
 
 namespace fxbench {
 namespace {
-
-
-// Turns HDF5's automatic error-stack printing off for its lifetime.
-class QuietHdf5Errors {
- public:
-  QuietHdf5Errors() {
-    H5Eget_auto2(H5E_DEFAULT, &saved_function_, &saved_data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  QuietHdf5Errors(const QuietHdf5Errors&) = delete;
-  QuietHdf5Errors& operator=(const QuietHdf5Errors&) = delete;
-  ~QuietHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, saved_function_, saved_data_); }
-
- private:
-  H5E_auto2_t saved_function_ = nullptr;
-  void* saved_data_ = nullptr;
-};
 
 static_assert(std::is_same_v<int, std::int32_t>, "the records' int fields are stored as int32");
 
@@ -103,6 +84,15 @@ struct TimedSeries {
 constexpr TimedSeries run_times[] = {{"wall_ms", &RunRecord::wall_ms, "ms"},
                                      {"cpu_ms", &RunRecord::cpu_ms, "ms"}};
 constexpr const char* cycles_units = "cycles";
+
+// A run counted with --counter instructions has one scalar dataset more, with its provenance.
+constexpr const char* instructions_dataset = "instructions";
+constexpr const char* instructions_units = "instructions";
+constexpr const char* instructions_steps_attribute = "steps";
+constexpr Member<InstructionCount, std::string> instruction_count_strings[] = {
+    {"tool", &InstructionCount::tool},
+    {"tool_version", &InstructionCount::tool_version},
+};
 constexpr const char* contacts_units = "manifolds";
 constexpr const char* phase_units = "ms";
 
@@ -176,7 +166,10 @@ class ResultsWriter {
   explicit ResultsWriter(std::string path) : path_(std::move(path)) {}
 
   void write(const ResultSet& results, const std::string& file_path) const {
-    H5Handle file(H5Fcreate(file_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    // Room for the seal (file_integrity.h), written once the file is closed.
+    const H5Handle creation(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+    H5Pset_userblock(creation.get(), h5_seal_bytes);
+    H5Handle file(H5Fcreate(file_path.c_str(), H5F_ACC_TRUNC, creation.get(), H5P_DEFAULT), H5Fclose);
     if (!file.valid())
       throw InputError(path_ + ": cannot create " + file_path + "; is its directory there and writable?");
     write_provenance(file.get(), results.provenance);
@@ -185,6 +178,7 @@ class ResultsWriter {
     write_scenes(file.get(), results.scenes);
     write_runs(file.get(), results.runs, results.provenance.counter_kind);
     if (!file.close()) fail("the file to disk");
+    seal_h5_file(file_path);
   }
 
  private:
@@ -301,6 +295,16 @@ class ResultsWriter {
     const H5Handle type = utf8_string_type();
     dataset(run, where, "state_hashes", type.get(), type.get(), {record.state_hashes.size()},
             c_strings(record.state_hashes).data());
+    if (record.instruction_count) write_instruction_count(run, where, *record.instruction_count);
+  }
+
+  void write_instruction_count(hid_t run, const std::string& where, const InstructionCount& count) const {
+    const std::string counted = where + "/" + instructions_dataset;
+    const H5Handle instructions = numeric_dataset(run, where, instructions_dataset, {},
+                                                  std::vector<std::uint64_t>{count.instructions}, instructions_units);
+    number_attribute(instructions.get(), counted, instructions_steps_attribute, count.steps);
+    for (const auto& member : instruction_count_strings)
+      string_attribute(instructions.get(), counted, member.name, count.*member.field);
   }
 
   // An engine without a phase split has no phase_ms dataset at all.
@@ -338,6 +342,8 @@ class ResultsReader {
     if (!std::filesystem::exists(path_, ignored)) throw InputError(path_ + ": no such file");
     const std::string expected =
         std::string("; expected an fx2d-bench result file (schema ") + results_schema + ")";
+    // Before libhdf5 sees a byte: it trusts its input, and crashes on some corrupt files.
+    verify_h5_seal(path_);
     if (H5Fis_hdf5(path_.c_str()) <= 0) throw InputError(path_ + ": not an HDF5 file" + expected);
     const H5Handle file(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
     if (!file.valid()) throw InputError(path_ + ": cannot open: the HDF5 file is truncated or damaged");
@@ -561,7 +567,23 @@ class ResultsReader {
     }
     record.accuracy = accuracy(run, where);
     record.state_hashes = strings(run, where, "state_hashes", false);
+    if (H5Lexists(run, instructions_dataset, H5P_DEFAULT) > 0) record.instruction_count = instruction_count(run, where);
     return record;
+  }
+
+  InstructionCount instruction_count(hid_t run, const std::string& where) const {
+    const std::string counted = where + "/" + instructions_dataset;
+    const H5Handle dataset = open_dataset(run, where, instructions_dataset, H5T_INTEGER, "an integer");
+    InstructionCount count;
+    if (!shape_of(dataset.get()).empty() ||
+        H5Dread(dataset.get(), H5Stored<std::uint64_t>::memory_type(), H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                &count.instructions) < 0) {
+      fail(counted, "expected a single unsigned integer");
+    }
+    count.steps = number_attribute<int>(dataset.get(), counted, instructions_steps_attribute);
+    for (const auto& member : instruction_count_strings)
+      count.*member.field = string_attribute(dataset.get(), counted, member.name);
+    return count;
   }
 
   std::string path_;
@@ -574,22 +596,12 @@ void write_results_h5(const ResultSet& results, const std::string& path, bool ov
   if (!overwrite && std::filesystem::exists(path, ignored)) {
     throw InputError(path + ": exists; pass --force to overwrite");
   }
-  // Beside the final name, so that the rename stays within one file system and is atomic.
-  const std::string temporary = path + ".tmp." + std::to_string(::getpid());
-  const QuietHdf5Errors quiet;
-  try {
-    ResultsWriter(path).write(results, temporary);
-    if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-      throw InputError(path + ": cannot rename " + temporary + " into place: " + std::strerror(errno));
-    }
-  } catch (...) {
-    std::remove(temporary.c_str());
-    throw;
-  }
+  const SilentHdf5Errors quiet;
+  write_atomically(path, [&](const std::string& temporary) { ResultsWriter(path).write(results, temporary); });
 }
 
 ResultSet read_results_h5(const std::string& path) {
-  const QuietHdf5Errors quiet;
+  const SilentHdf5Errors quiet;
   return ResultsReader(path).read();
 }
 

@@ -2,9 +2,11 @@
 // table, as JSON (`--json`), and as an HDF5 result file (`--out`).
 //
 // Reads top to bottom: the options, the checks made before anything is measured (an existing
-// --out without --force), the measurement of every scene x engine in registry order (runner.h
-// holds the measurement invariants), then the output. Nothing here prints to stderr but the
-// progress bar, which is drawn only when stderr is a terminal.
+// --out without --force, valgrind missing for --counter), the measurement of every scene x engine
+// in registry order (runner.h holds the measurement invariants; with --counter instructions each
+// timed run is then counted in a child under callgrind, instruction_counter.h), then the output.
+// Nothing here prints to stderr but the progress bar, which is drawn only when stderr is a
+// terminal.
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,11 +16,13 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "cli_options.h"
 #include "clocks.h"
 #include "commands.h"
 #include "errors.h"
+#include "instruction_counter.h"
 #include "interrupt.h"
 #include "provenance.h"
 #include "results_h5.h"
@@ -36,6 +40,7 @@ struct RunOptions {
   bool json = false;
   std::string out;
   bool force = false;
+  std::string counter;  // "instructions": also count each run's step loop under callgrind
 };
 
 // One line on stderr, redrawn in place: engine, scene, repeat, share done, time left.
@@ -110,8 +115,19 @@ void check_sample_budget(const std::vector<SceneSpec>& scenes, const RunOptions&
   }
 }
 
+// The name the counting child looks `engine` up by: as it was given on the command line, since an
+// engine loaded by name (a plugin) may carry another name in its entry; a registry engine's own.
+std::string lookup_name(const EngineOptions& options, const EngineInfo& engine) {
+  for (const std::string& name : options.names)
+    if (find_engine(name) == &engine) return name;
+  return engine.name;
+}
+
 void run_command(const RunOptions& options, const std::string& command_line) {
   check_out_path(options);
+  // instruction_counter.h: refuses before anything is measured when valgrind cannot run.
+  const std::optional<InstructionCounter> counter =
+      options.counter.empty() ? std::nullopt : std::optional<InstructionCounter>(std::in_place);
   const ScopedInterruptHandler interrupts;  // interrupt.h: Ctrl-C saves what was measured
   const std::vector<SceneSpec> scenes = options.scenes.load();
   check_sample_budget(scenes, options);
@@ -132,6 +148,10 @@ void run_command(const RunOptions& options, const std::string& command_line) {
     for (const EngineInfo* engine : engines) {
       RunRecord run = measure_engine(scene, *engine, plan, progress.for_run(steps_before));
       results.partial = run.repeats < plan.repeats;  // interrupt.h: only a SIGINT cuts a run short
+      if (counter && !results.partial) {
+        run.instruction_count = counter->count(scene, lookup_name(options.engines, *engine));
+        results.partial = !run.instruction_count;  // interrupt.h: the SIGINT stopped the counting child
+      }
       if (run.repeats > 0) results.runs.push_back(std::move(run));
       if (results.partial) break;  // interrupt.h
       steps_before += planned_steps(scene, plan);
@@ -174,6 +194,9 @@ void register_run(CLI::App& app, const std::string& command_line) {
       ->check(CLI::Range(1, 10'000'000))
       ->capture_default_str();
   run->add_flag("--json", options->json, "Print the summary as one JSON object (fx2d-bench.summary/1)");
+  run->add_option("--counter", options->counter,
+                  "Also count each run's step loop exactly: 'instructions' runs it once more under valgrind's callgrind")
+      ->check(CLI::IsMember({"instructions"}));
   CLI::Option* out = run->add_option("--out", options->out, "Write every sample to this HDF5 file (fx2d-bench.results/1)");
   run->add_flag("--force", options->force, "Overwrite the --out file if it exists")->needs(out);
   run->callback([options, command_line] { run_command(*options, command_line); });

@@ -20,7 +20,7 @@ bool is_sampled(int step, int every, int steps) { return step % every == 0 || st
 int sample_count(int every, int steps) { return steps / every + (steps % every == 0 ? 0 : 1); }
 
 // The scene's solver settings for this engine as "key=value ..." (the resolved scene holds them
-// under /solver/<engine name>), so the record says what the engine ran with without the runner
+// under /solver/<EngineInfo::solver>), so the record says what the engine ran with without the runner
 // naming any engine. Empty for a scene that has no resolved JSON, such as one built in code.
 std::string settings_of(const SceneSpec& scene, const std::string& engine) {
   const auto resolved = nlohmann::json::parse(scene.resolved_json, nullptr, false);
@@ -37,7 +37,7 @@ RunRecord empty_record(const SceneSpec& scene, const EngineInfo& info, const Eng
   RunRecord record;
   record.engine = info.name;
   record.engine_version = info.version;
-  record.engine_settings = settings_of(scene, info.name);
+  record.engine_settings = settings_of(scene, info.solver);
   record.scene = scene.name;
   record.scene_hash = scene.hash;
   record.bodies = scene.size;

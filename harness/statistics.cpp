@@ -110,6 +110,14 @@ std::vector<double> row_means(std::span<const double> matrix, std::size_t column
   return means;
 }
 
+std::vector<double> row_medians(std::span<const double> matrix, std::size_t columns) {
+  std::vector<double> medians;
+  if (columns == 0) return medians;
+  for (std::size_t start = 0; start + columns <= matrix.size(); start += columns)
+    medians.push_back(median(matrix.subspan(start, columns)));
+  return medians;
+}
+
 std::vector<double> column_medians(std::span<const double> matrix, std::size_t columns) {
   std::vector<double> medians;
   if (columns == 0) return medians;
@@ -205,6 +213,11 @@ SpeedVerdict decide_speed(const RatioEstimate& estimate, const RankTest& test, i
     if (significant && estimate.ci.high < low_edge) return {Speed::faster, std::nullopt};
   }
   return {Speed::inconclusive, repeats_to_decide(estimate, test, repeats, rules)};
+}
+
+Speed decide_exact(double a, double b, double tolerance) {
+  if (std::abs(b - a) <= tolerance * a) return Speed::no_change;
+  return b > a ? Speed::slower : Speed::faster;
 }
 
 }  // namespace fxbench

@@ -10,7 +10,16 @@
 //
 // The interval is a percentile bootstrap of median(B) / median(A), not a Hodges-Lehmann
 // estimate: its point estimate is then exactly the ratio of the two medians a reader sees printed
-// beside it, and the median of per-repeat means is the figure `fx2d-bench run` reports.
+// beside it.
+//
+// What is resampled is one figure per repeat (a round of `fx2d-bench ab`): the MEDIAN of that
+// repeat's per-step times (row_medians), not their mean. On a shared machine a step that the
+// scheduler preempts takes several times its own cost, and a few such steps move a repeat's mean
+// by more than the 2% noise band (wall 0.55 ms/step against 0.32 ms of CPU under a load of 8 on 2 cores,
+// with repeat means 26% apart), while the median of a repeat's steps moves only when more than
+// half of them are disturbed. The price: a change confined to a minority of steps (the costliest
+// few of a trajectory, say) moves the median less than the mean, and a time spent in fewer than
+// half of the steps (a phase that runs now and then) has a median of 0.
 #pragma once
 
 #include <cstddef>
@@ -26,8 +35,10 @@ namespace fxbench {
 double median(std::span<const double> sample);
 
 // A repeat-major matrix (index = row * columns + column, as RunRecord stores samples): the mean
-// of each row (one per repeat), and the median of each column (one per step, across repeats).
+// or the median of each row (one per repeat), and the median of each column (one per step,
+// across repeats). A partial last row is ignored.
 std::vector<double> row_means(std::span<const double> matrix, std::size_t columns);
+std::vector<double> row_medians(std::span<const double> matrix, std::size_t columns);
 std::vector<double> column_medians(std::span<const double> matrix, std::size_t columns);
 
 inline constexpr std::uint64_t bootstrap_seed = 0x6678326462656e63;  // "fx2dbenc" in ASCII
@@ -105,5 +116,11 @@ inline constexpr int max_repeats_needed = 1'000'000;
 // `faster` or `slower` when p < alpha and the whole interval lies strictly outside the band;
 // otherwise `inconclusive`. `repeats` is the smaller repeat count of the two runs.
 SpeedVerdict decide_speed(const RatioEstimate& estimate, const RankTest& test, int repeats, const VerdictRules& rules);
+
+// The verdict on an exact figure, such as an instruction count, which has no sampling error to
+// test: `no change` when |b / a - 1| <= tolerance (edges included), else `slower` when b is above
+// a and `faster` when below. Evaluated as |b - a| <= tolerance * a, so that a case on the edge is
+// not decided by the rounding of a quotient. a must be positive.
+Speed decide_exact(double a, double b, double tolerance);
 
 }  // namespace fxbench

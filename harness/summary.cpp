@@ -69,6 +69,13 @@ nlohmann::ordered_json run_json(const RunRecord& run, const std::string& primary
   };
 }
 
+// With --counter instructions: the exact count per step, after the timing figures.
+nlohmann::ordered_json counted_run_json(const RunRecord& run, const std::string& primary_metric) {
+  nlohmann::ordered_json json = run_json(run, primary_metric);
+  if (run.instruction_count) json["instructions_per_step"] = run.instruction_count->per_step();
+  return json;
+}
+
 std::string formatted(const char* format, double value) {
   char text[64];
   std::snprintf(text, sizeof text, format, value);
@@ -89,21 +96,23 @@ std::string top_phases(const RunSummary& summary) {
   return text.empty() ? "-" : text;
 }
 
-std::vector<std::string> table_row(const RunRecord& run) {
+// `counted`: the table has an instructions column (some run was counted); "-" for a run that was not.
+std::vector<std::string> table_row(const RunRecord& run, bool counted) {
   const RunSummary summary = summarise(run);
   const Spread& ms = summary.ms_per_step;
-  return {run.engine,
-          run.scene,
-          std::to_string(run.bodies),
-          formatted("%.3f", ms.median) + formatted(" [%.3f", ms.min) + formatted("-%.3f]", ms.max),
-          formatted("%.0f", summary.cycles_per_step.median),
-          formatted("%.1f", summary.contacts_mean),
-          top_phases(summary),
-          formatted("%.2f", summary.worst.max_penetration * 1e3),
-          formatted("%.3f", summary.worst.max_displacement),
-          std::to_string(summary.worst.escaped),
-          std::to_string(summary.worst.nan),
-          run.final_state_hash.substr(0, 8) + (run.deterministic ? "" : " (varies)")};
+  std::vector<std::string> row = {
+      run.engine,
+      run.scene,
+      std::to_string(run.bodies),
+      formatted("%.3f", ms.median) + formatted(" [%.3f", ms.min) + formatted("-%.3f]", ms.max),
+      formatted("%.0f", summary.cycles_per_step.median)};
+  if (counted) row.push_back(run.instruction_count ? formatted("%.0f", run.instruction_count->per_step()) : "-");
+  row.insert(row.end(), {formatted("%.1f", summary.contacts_mean), top_phases(summary),
+                         formatted("%.2f", summary.worst.max_penetration * 1e3),
+                         formatted("%.3f", summary.worst.max_displacement), std::to_string(summary.worst.escaped),
+                         std::to_string(summary.worst.nan),
+                         run.final_state_hash.substr(0, 8) + (run.deterministic ? "" : " (varies)")});
+  return row;
 }
 
 }  // namespace
@@ -137,15 +146,17 @@ nlohmann::ordered_json accuracy_json(const AccuracySample& worst) {
 
 nlohmann::ordered_json summary_json(const ResultSet& results) {
   nlohmann::ordered_json runs = nlohmann::ordered_json::array();
-  for (const RunRecord& run : results.runs) runs.push_back(run_json(run, primary_metric_of(results, run)));
+  for (const RunRecord& run : results.runs) runs.push_back(counted_run_json(run, primary_metric_of(results, run)));
   return {{"schema", summary_schema}, {"runs", runs}};
 }
 
 std::string summary_table(const ResultSet& results) {
-  std::vector<std::vector<std::string>> rows = {{"engine", "scene", "bodies", "ms/step median [min-max]",
-                                                 "cycles/step", "contacts", "top phases (% of step)",
-                                                 "max pen mm", "max disp m", "escaped", "nan", "state hash"}};
-  for (const RunRecord& run : results.runs) rows.push_back(table_row(run));
+  const bool counted = std::ranges::any_of(results.runs, [](const RunRecord& run) { return run.instruction_count.has_value(); });
+  std::vector<std::string> header = {"engine", "scene", "bodies", "ms/step median [min-max]", "cycles/step"};
+  if (counted) header.push_back("instr/step");
+  header.insert(header.end(), {"contacts", "top phases (% of step)", "max pen mm", "max disp m", "escaped", "nan", "state hash"});
+  std::vector<std::vector<std::string>> rows = {header};
+  for (const RunRecord& run : results.runs) rows.push_back(table_row(run, counted));
   return aligned_columns(rows);
 }
 

@@ -305,31 +305,38 @@ def stability_heatmap(rows, tests, cells, out_dir):
 
 # --- nightly history ------------------------------------------------------------------------------
 
-def history_trend(series, x_label, y_label, out_dir):
-    """series: [(label, engine, xs, ys, baseline or None, [indices of detected steps])]."""
+def history_trend(series, metric, label, out_dir):
+    """series: [{label, engine, metric, x, candidate, baseline, accepted: [night index],
+    steps: [(night index, slower?)]}], one line per engine, scene and size; one metric per chart."""
     if not series:
         return None
     figure, axes = plt.subplots(figsize=(10, 4.8))
     line_styles = ["-", "--", ":", "-."]
     per_engine = {}
-    for label, engine, xs, ys, baseline, steps in series:
-        style = line_styles[per_engine.setdefault(engine, 0) % len(line_styles)]
-        per_engine[engine] += 1
-        colour = engine_colour(engine)
-        axes.plot(xs, ys, style, marker="o", ms=3.5, color=colour, lw=1.6, label=label)
-        if baseline is not None:
-            axes.plot(xs, baseline, color=colour, lw=1, alpha=0.55, drawstyle="steps-post")
-        if steps:
-            axes.plot([xs[i] for i in steps], [ys[i] for i in steps], "v", ms=11, color="#c0392b",
-                      markeredgecolor="black", linestyle="none")
-    axes.plot([], [], color="#888", lw=1, alpha=0.6, label="accepted baseline")
-    axes.plot([], [], "v", ms=9, color="#c0392b", markeredgecolor="black", linestyle="none", label="detected step")
-    axes.set_xlabel(x_label)
-    axes.set_ylabel(y_label)
-    axes.set_title("Nightly history", loc="left")
+    for s in series:
+        style = line_styles[per_engine.setdefault(s["engine"], 0) % len(line_styles)]
+        per_engine[s["engine"]] += 1
+        colour = engine_colour(s["engine"])
+        xs, ys = s["x"], s["candidate"]
+        axes.plot(xs, ys, style, marker="o", ms=3.5, color=colour, lw=1.6, label=s["label"])
+        axes.plot(xs, s["baseline"], color=colour, lw=1, alpha=0.5, drawstyle="steps-post")
+        if s["accepted"]:
+            axes.plot([xs[i] for i in s["accepted"]], [ys[i] for i in s["accepted"]], "*", ms=15, color=colour,
+                      markeredgecolor="black", linestyle="none", zorder=5)
+        for i, slower in s["steps"]:
+            axes.plot(xs[i], ys[i], "^" if slower else "v", ms=11, color="#c0392b" if slower else "#2a9d5c",
+                      markeredgecolor="black", linestyle="none", zorder=6)
+    axes.plot([], [], color="#888", lw=1, alpha=0.6, label="baseline judged against")
+    axes.plot([], [], "*", ms=12, color="#888", markeredgecolor="black", linestyle="none", label="accepted as baseline")
+    axes.plot([], [], "^", ms=9, color="#c0392b", markeredgecolor="black", linestyle="none", label="step: slower")
+    axes.plot([], [], "v", ms=9, color="#2a9d5c", markeredgecolor="black", linestyle="none", label="step: faster")
+    unit = "instructions per step" if metric == "instructions_per_step" else "median wall ms per step"
+    axes.set_xlabel("night (date of the gate, UTC)")
+    axes.set_ylabel(f"candidate's {unit}")
+    axes.set_title(f"Nightly history: {metric}", loc="left")
     axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     figure.autofmt_xdate()
-    return _save(figure, out_dir, "history")
+    return _save(figure, out_dir, _slug("history", label, metric))
 
 
 def lighten(colour, amount):

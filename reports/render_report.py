@@ -183,11 +183,37 @@ def default_standing(sweep, rows):
     return result
 
 
-def ab_section(compare_reports, out_dir):
-    if not compare_reports:
-        return note("No comparison given: pass <code>--compare-json FILE</code> with the output of "
-                    "<code>fx2d-bench compare A.h5 B.h5 --json</code>.")
+def ab_file_section(files, out_dir):
+    """The A/B comparison inside each run file written by `fx2d-bench ab --out` (engines X@A, X@B)."""
     parts = []
+    for index, f in enumerate(files):
+        rows = report_data.ab_rows(f.runs)
+        if not rows:
+            continue
+        headline = f"{f.label}: B against A, by interval"
+        name = charts.ab_forest({"noise": report_data.AB_NOISE, "headline": headline, "mode": "ab"}, rows,
+                                lambda row: f"{row['engine']} · {row['scene']} · {row['bodies']} · "
+                                            f"{row['metric'].removeprefix('phase:')}",
+                                out_dir, f"ab_file_{index}")
+        parts.append(f"<h3>{esc(f.label)} (fx2d-bench ab)</h3>")
+        parts.append(figure(name, "Ratio B/A of the median per-repeat step time and of each phase, with a 95% "
+                                  "percentile bootstrap interval over repeats, around the ±2% noise band. The colour "
+                                  "judges the interval alone; <code>fx2d-bench compare</code> adds the rank test."))
+        parts.append(table(["engine", "scene", "bodies", "metric", "A (ms)", "B (ms)", "ratio [95% CI]", "by interval"],
+                           [[chip(r["engine"]), esc(r["scene"]), str(r["bodies"]), esc(r["metric"]), number(r["a"], 4),
+                             number(r["b"], 4), f'{r["ratio"]:.3f} [{r["ci_low"]:.3f}–{r["ci_high"]:.3f}]',
+                             f'<span class="verdict {esc(r["speed"].replace(" ", "-"))}">{esc(r["speed"])}</span>']
+                            for r in rows]))
+    return "".join(parts)
+
+
+def ab_section(compare_reports, files, out_dir):
+    from_files = ab_file_section(files, out_dir)
+    if not compare_reports:
+        return from_files or note("No comparison given: pass <code>--compare-json FILE</code> with the output of "
+                                  "<code>fx2d-bench compare A.h5 B.h5 --json</code>, or an <code>fx2d-bench ab "
+                                  "--out</code> file.")
+    parts = [from_files]
     for index, (path, report) in enumerate(compare_reports):
         rows = [row for row in report["rows"] if row["metric"] != "cycles_per_step"]
         cross = report.get("mode") == "cross-engine"
@@ -276,17 +302,25 @@ def stability_section(files, out_dir):
 
 
 def history_section(files, out_dir):
-    tables = [(f, t) for f in files for t in f.history.values()]
-    if not tables:
+    histories = [f for f in files if f.history is not None]
+    if not histories:
         return note("No nightly history file among the inputs (a file with a <code>/history</code> group); "
                     "this section is left empty.")
-    series, unreadable = history_series(tables)
-    if not series:
-        return note("The history file's <code>/history</code> layout is not one this report reads: "
-                    + esc("; ".join(unreadable)))
-    name = charts.history_trend(series, "night (date of the run, UTC)", "median wall time per step (ms)", out_dir)
-    return figure(name, "Nightly median step time per engine and scene, with the accepted baseline and the "
-                        "steps the nightly job detected.")
+    parts = []
+    for f in histories:
+        series = history_series(f.history)
+        if not series:
+            parts.append(note(f"{esc(f.label)}: the history has no nights yet."))
+            continue
+        for metric in dict.fromkeys(s["metric"] for s in series):
+            mine = [s for s in series if s["metric"] == metric]
+            name = charts.history_trend(mine, metric, f.label, out_dir)
+            parts.append(figure(name, f"{esc(f.label)}: the candidate's median {esc(metric)} night by night per "
+                                      "engine, scene and size; the thin line is the baseline it was judged against, "
+                                      "a star marks a night whose candidate was accepted as the new baseline, a "
+                                      "triangle a change the gate detected (up: slower, down: faster)."))
+        parts.append(history_nights_table(f.history))
+    return "".join(parts)
 
 
 def _history_x(values):
@@ -296,35 +330,47 @@ def _history_x(values):
         return list(range(len(values)))
 
 
-def history_series(tables):
-    """Reads a history table by its column names (the /history layout is not fixed yet):
-    x from date_utc/date, y from ms_per_step/median_ms/value, optional baseline and step flags,
-    one series per (engine, scene, bodies)."""
-    series, unreadable = [], []
-    for f, t in tables:
-        y = t.get("ms_per_step", "median_ms", "value")
-        x = t.get("date_utc", "date", "night")
-        if y is None or x is None:
-            unreadable.append(f"{f.label}: columns {', '.join(t.columns)}")
-            continue
-        baseline = t.get("baseline_ms_per_step", "baseline_ms", "baseline")
-        step = t.get("step_detected", "is_step", "step")
-        keys = [t.get(name) for name in ("engine", "scene", "bodies")]
-        identity = [tuple(str(k[i]) for k in keys if k is not None) for i in range(len(t))]
-        for key in dict.fromkeys(identity):
-            rows = [i for i in range(len(t)) if identity[i] == key]
-            xs = _history_x([x[i] for i in rows])
-            series.append((" · ".join(key) or f.label, key[0] if key else "fx2d", xs, [float(y[i]) for i in rows],
-                           [float(baseline[i]) for i in rows] if baseline is not None else None,
-                           [n for n, i in enumerate(rows) if step is not None and step[i]]))
-    return series, unreadable
+def history_series(history):
+    """One series per (engine, scene, bodies, metric) of a /history table, nights in file order:
+    x the night's date, y the candidate's median (b), the baseline's (a), and the nights that were
+    accepted or where the gate detected a step (with its direction, from the ratio)."""
+    c = history.columns
+    keys = [(str(c["engine"][i]).partition("@")[0], str(c["scene"][i]), int(c["bodies"][i]), str(c["metric"][i]))
+            for i in range(len(history))]
+    series = []
+    for key in dict.fromkeys(keys):
+        rows = [i for i in range(len(history)) if keys[i] == key]
+        series.append({
+            "label": f"{key[0]} · {key[1]} · {key[2]}", "engine": key[0], "metric": key[3],
+            "x": _history_x([c["date_utc"][i] for i in rows]),
+            "candidate": [float(c["b"][i]) for i in rows],
+            "baseline": [float(c["a"][i]) for i in rows],
+            "accepted": [n for n, i in enumerate(rows) if c["accepted"][i]],
+            "steps": [(n, float(c["ratio"][i]) > 1.0) for n, i in enumerate(rows) if c["step_detected"][i]],
+        })
+    return series
+
+
+def history_nights_table(history):
+    """The last night's gating rows: what the gate said, and what was quarantined or accepted."""
+    c = history.columns
+    last = c["date_utc"][len(history) - 1]
+    rows = [i for i in range(len(history)) if c["date_utc"][i] == last]
+    return (f"<h3>Last night ({esc(str(last))}): {esc(str(c['candidate'][rows[0]]))} against "
+            f"{esc(str(c['baseline'][rows[0]]))}</h3>"
+            + table(["engine", "scene", "bodies", "metric", "ratio [95% CI]", "verdict", "step", "accepted"],
+                    [[chip(str(c["engine"][i]).partition("@")[0]), esc(str(c["scene"][i])), str(int(c["bodies"][i])),
+                      esc(str(c["metric"][i])),
+                      f'{c["ratio"][i]:.3f} [{c["ci_low"][i]:.3f}–{c["ci_high"][i]:.3f}]',
+                      esc(str(c["verdict"][i])), "step" if c["step_detected"][i] else "",
+                      "yes" if c["accepted"][i] else ""] for i in rows]))
 
 
 def provenance_section(files):
     rows = []
     for f in files:
         kind = ("sweep" if f.sweep is not None else "stability" if f.stability else
-                "history" if f.history else "run")
+                "history" if f.history is not None else "run")
         p = f.provenance
         rows.append([esc(f.label), kind, esc(f"{p.get('fx2d_version', '')} ({p.get('fx2d_git_revision', '')})"),
                      esc(p.get("build_type", "")), esc(p.get("compiler", "")), f"<code>{esc(p.get('build_flags', ''))}</code>",
@@ -424,7 +470,7 @@ def render(arguments):
         "runs": runs_section(files),
         "phases": phases_section(files, out_dir),
         "speed-accuracy": speed_accuracy_section(files, out_dir),
-        "ab": ab_section(compare_reports, out_dir),
+        "ab": ab_section(compare_reports, files, out_dir),
         "stability": stability_section(files, out_dir),
         "history": history_section(files, out_dir),
         "provenance": provenance_section(files),

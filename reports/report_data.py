@@ -44,6 +44,8 @@ class Run:
     primary_metric: str
     state_hash: str
     deterministic: bool
+    repeat_ms: list = field(default_factory=list)        # each repeat's mean wall ms per step
+    phase_repeat_ms: dict = field(default_factory=dict)  # phase -> each repeat's mean ms per step
 
 
 @dataclass
@@ -73,7 +75,7 @@ class InputFile:
     runs: list = field(default_factory=list)
     sweep: Table = None
     stability: dict = field(default_factory=dict)   # table name -> Table, "" for /stability itself
-    history: dict = field(default_factory=dict)     # same, for /history
+    history: Table = None  # the nightly history (/history), read by its documented columns
 
 
 def _text(value):
@@ -101,11 +103,12 @@ def _read_run(group, label, primary_metrics):
     attrs = group.attrs
     repeats, steps = int(attrs["repeats"]), int(attrs["steps"])
     repeat_ms = _per_repeat_means(group["wall_ms"][()], repeats, steps)
-    phases = []
+    phases, phase_repeat_ms = [], {}
     if "phase_ms" in group:
         names = [_text(name) for name in group["phase_ms"].attrs["phase_names"]]
         phase_ms = np.asarray(group["phase_ms"][()], dtype=float).reshape(repeats, steps, len(names))
-        phases = [(name, float(np.median(phase_ms[:, :, p].mean(axis=1)))) for p, name in enumerate(names)]
+        phase_repeat_ms = {name: phase_ms[:, :, p].mean(axis=1) for p, name in enumerate(names)}
+        phases = [(name, float(np.median(means))) for name, means in phase_repeat_ms.items()]
     scene_hash = _text(attrs["scene_hash"])
     return Run(
         source=label,
@@ -124,6 +127,8 @@ def _read_run(group, label, primary_metrics):
         primary_metric=primary_metrics.get(scene_hash, ""),
         state_hash=_text(attrs["final_state_hash"]),
         deterministic=bool(attrs["deterministic"]),
+        repeat_ms=repeat_ms,
+        phase_repeat_ms=phase_repeat_ms,
     )
 
 
@@ -160,6 +165,21 @@ def _read_tables(group):
     return tables
 
 
+# The /history columns (harness/RESULTS_FORMAT.md, "The nightly history file"), each one row per
+# gating metric per night.
+HISTORY_COLUMNS = ("date_utc", "candidate", "baseline", "engine", "scene", "bodies", "metric", "a", "b", "ratio",
+                   "ci_low", "ci_high", "p_value", "verdict", "step_detected", "accepted")
+
+
+def _read_history(group):
+    table = _read_table(group)
+    missing = [name for name in HISTORY_COLUMNS if name not in table.columns]
+    if missing:
+        raise InputProblem(f"{group.file.filename}: /history: missing columns {', '.join(missing)} "
+                           "(expected the fx2d-bench.history/1 layout)")
+    return table
+
+
 def read_h5(path, label):
     """One file of any kind fx2d-bench writes. Raises InputProblem."""
     try:
@@ -175,8 +195,8 @@ def read_h5(path, label):
             if "stability" in f:
                 loaded.stability = _read_tables(f["stability"])
             if "history" in f:
-                loaded.history = _read_tables(f["history"])
-            plain_run_file = loaded.sweep is None and not loaded.stability and not loaded.history
+                loaded.history = _read_history(f["history"])
+            plain_run_file = loaded.sweep is None and not loaded.stability and loaded.history is None
             if plain_run_file and "runs" in f:
                 primary = {_text(s.attrs["hash"]): _text(s.attrs["primary_metric"]) for s in _numbered(f["scenes"])}
                 loaded.runs = [_read_run(run, label, primary) for run in _numbered(f["runs"])]
@@ -185,6 +205,60 @@ def read_h5(path, label):
         raise InputProblem(f"{path}: cannot read as HDF5: {error}") from None
     except KeyError as error:
         raise InputProblem(f"{path}: missing member {error}") from None
+
+
+# --- A/B inside one run file (`fx2d-bench ab --out`: engines X@A and X@B) ----------------------------
+
+AB_NOISE = 0.02            # compare's default band: ratios within 1 +- 2% are no change
+AB_RESAMPLES = 2000
+AB_SEED = 0x6678326462656E63  # compare's seed, so a re-render draws the same resamples
+
+
+def _bootstrap_ratio(a, b, rng):
+    """Ratio of medians b/a with a 95% percentile bootstrap interval (compare's method, numpy's
+    generator: the interval is close to compare's, not identical)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    resampled_a = np.median(rng.choice(a, size=(AB_RESAMPLES, len(a))), axis=1)
+    resampled_b = np.median(rng.choice(b, size=(AB_RESAMPLES, len(b))), axis=1)
+    ratios = resampled_b / resampled_a
+    return float(np.median(b) / np.median(a)), float(np.percentile(ratios, 2.5)), float(np.percentile(ratios, 97.5))
+
+
+def _interval_speed(low, high):
+    """The interval half of compare's two-stage verdict; the report has no rank test."""
+    if 1 - AB_NOISE <= low and high <= 1 + AB_NOISE:
+        return "no change"
+    if low > 1 + AB_NOISE:
+        return "slower"
+    if high < 1 - AB_NOISE:
+        return "faster"
+    return "inconclusive"
+
+
+def ab_rows(runs):
+    """Rows shaped like compare's (engine, against, scene, bodies, metric, a, b, ratio, ci_low,
+    ci_high, speed, verdict) for every (engine, scene, bodies) run as both X@A and X@B in one file:
+    the step time and each phase, B against A."""
+    by_key = {(r.source, r.engine, r.scene, r.bodies): r for r in runs}
+    rng = np.random.default_rng(AB_SEED)
+    rows = []
+    for (source, engine, scene, bodies), run_a in by_key.items():
+        base, _, side = engine.rpartition("@")
+        run_b = by_key.get((source, f"{base}@B", scene, bodies))
+        if side != "A" or run_b is None or len(run_a.repeat_ms) == 0 or len(run_b.repeat_ms) == 0:
+            continue
+        metrics = [("ms_per_step", run_a.repeat_ms, run_b.repeat_ms)]
+        metrics += [(f"phase:{name}", means, run_b.phase_repeat_ms[name])
+                    for name, means in run_a.phase_repeat_ms.items() if name in run_b.phase_repeat_ms]
+        for metric, a, b in metrics:
+            if np.min(a) <= 0 or np.min(b) <= 0:
+                continue  # a phase that measured nothing has no ratio
+            ratio, low, high = _bootstrap_ratio(a, b, rng)
+            speed = _interval_speed(low, high)
+            rows.append({"source": source, "engine": base, "against": base, "scene": scene, "bodies": bodies,
+                         "metric": metric, "a": float(np.median(a)), "b": float(np.median(b)), "ratio": ratio,
+                         "ci_low": low, "ci_high": high, "speed": speed, "verdict": speed})
+    return rows
 
 
 def read_compare_json(path):

@@ -22,9 +22,15 @@
 // depended on how many rows every earlier world in the process had shuffled (the warm-up, earlier
 // repeats). Each world keeps its own seed, swapped in around its step, so that a trajectory
 // depends on the scene alone, the same in every repeat and every process.
-// Space: dHashSpace with ODE's default levels. On the canonical scenes it and dSweepAndPruneSpace
-// timed within run-to-run noise of each other; the hash grid is kept because its cost does not
-// depend on how bodies line up along one sort axis (a pile is 20 m wide and many metres tall).
+// Space: dHashSpace with ODE's default levels. Every dSpaceCollide it allocates and clears a bit
+// table of n x n bits (ODE 0.16 collision_space.cpp, "tested"), so memory and time grow as n^2:
+// peak RSS 428 MB and 3.4 s a step with no contact at 50,000 bodies; at 200,000 the process grew
+// to 5.3 GB and ODE aborted ("i >= 0 && i < tested_rowsize*n", collision_space.cpp:566: the
+// table's int byte index overflows above about 131,000 bodies). dSweepAndPruneSpace has no such
+// table, but the order in which it reports pairs sets the order of the contact rows, and so changes
+// every canonical scene's trajectory and state hash (max penetration moves by 3% on pile 300, by
+// 23% on stacks 50; measured on ODE 0.16.2). To keep ODE's results comparable with every earlier
+// run, the hash space stays and larger scenes are refused (max_bodies), before anything is created.
 #include <ode/ode.h>
 
 #include <algorithm>
@@ -38,6 +44,7 @@
 #include <vector>
 
 #include "engines/engines.h"
+#include "errors.h"
 
 namespace fxbench {
 namespace {
@@ -46,6 +53,9 @@ constexpr dReal box_depth = 1.0;  // metres; the 2D density becomes kg/m^3 over 
 constexpr int max_contacts_per_pair = 4;
 // Box2D's b2_velocityThreshold: slower impacts are inelastic, so restitution acts alike in both.
 constexpr dReal bounce_threshold = 1.0;  // m/s
+// The hash space's n x n bit table is 512 MiB here, cleared every step (see above): the largest
+// scene worth waiting for, and half the size at which ODE itself aborts.
+constexpr std::size_t max_bodies = 65'536;
 
 void ensure_ode_ready_on_this_thread() {
   static const int initialised = dInitODE2(0);
@@ -101,6 +111,11 @@ class OdeEngine final : public Engine {
 
   void build(const SceneSpec& scene) override {
     if (!bodies_.empty()) throw std::logic_error("ode: build() called twice");
+    if (scene.bodies.size() > max_bodies) {
+      throw InputError("ode: scene '" + scene.name + "' has " + std::to_string(scene.bodies.size()) +
+                       " bodies; the ODE adapter takes at most " + std::to_string(max_bodies) +
+                       " (ODE's hash space clears an n x n bit table every step)");
+    }
     dt_ = scene.dt;
     dWorldSetGravity(world_, scene.gravity.x, scene.gravity.y, 0.0);
     dWorldSetQuickStepNumIterations(world_, scene.ode.iterations);

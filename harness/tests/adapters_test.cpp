@@ -302,14 +302,18 @@ TEST(EngineRegistry, ListsFx2dBox2dOdeInOrderWithTheirVersions) {
   EXPECT_EQ(engines[2].version.rfind("0.16", 0), 0u) << engines[2].version;
   for (const EngineInfo& info : engines) {
     EXPECT_FALSE(info.settings.empty()) << info.name;
-    EXPECT_NE(info.make, nullptr) << info.name;
+    EXPECT_TRUE(static_cast<bool>(info.make)) << info.name;
+    EXPECT_EQ(info.solver, info.name) << "each built-in engine reads its own /solver block";
   }
 }
 
 TEST(EngineRegistry, FindsEnginesByExactName) {
   ASSERT_NE(find_engine("ode"), nullptr);
   EXPECT_EQ(find_engine("ode")->name, "ode");
-  EXPECT_EQ(find_engine("box2d")->make, &make_box2d_engine);
+  using Factory = std::unique_ptr<Engine> (*)();
+  const Factory* box2d_factory = find_engine("box2d")->make.target<Factory>();
+  ASSERT_NE(box2d_factory, nullptr);
+  EXPECT_EQ(*box2d_factory, &make_box2d_engine);
   EXPECT_EQ(find_engine("Box2D"), nullptr);
   EXPECT_EQ(find_engine("bullet"), nullptr);
 }

@@ -20,6 +20,7 @@
 #include <iostream>
 #include <iterator>
 #include <sstream>
+#include <utility>
 
 #include "commands.h"
 #include "results_h5.h"
@@ -35,9 +36,9 @@ constexpr int steps = 40;
 
 // Step s of repeat r costs scale * (0.5 + 0.01 s) ms, the growth of a settling scene, times a
 // +-0.6% factor per repeat (the machine's state) and a +-0.3% factor per step, patterns that
-// `noise_phase` shifts so that two runs never share their noise. A repeat's mean per step is
-// thus within +-0.9% of its noiseless value, and the ratio of two runs' medians within
-// 1.009 / 0.991 = 1.8% of the true ratio. Phases split the step 40/60, cycles count at
+// `noise_phase` shifts so that two runs never share their noise. A repeat's median step (the
+// figure compare judges) is thus within +-0.9% of its noiseless value, and the ratio of two
+// runs' medians within 1.009 / 0.991 = 1.8% of the true ratio. Phases split the step 40/60, cycles count at
 // 2.2 GHz, and accuracy is one sample at the last step.
 RunRecord synthetic_run(const std::string& engine, const std::string& scene, double scale, int noise_phase,
                         int repeats = 8) {
@@ -75,6 +76,12 @@ RunRecord synthetic_run(const std::string& engine, const std::string& scene, dou
   return run;
 }
 
+// `run` as if measured with --counter instructions: `instructions` over its `steps` steps.
+RunRecord counted(RunRecord run, std::uint64_t instructions) {
+  run.instruction_count = InstructionCount{instructions, run.steps, "callgrind", "valgrind-3.19.0"};
+  return run;
+}
+
 ResultSet results_of(std::vector<RunRecord> runs) {
   ResultSet results;
   results.provenance.cpu_model = "Test CPU @ 2.2GHz";
@@ -104,18 +111,20 @@ class CompareFiles : public ::testing::Test {
     return compare_files(write(a, "a.h5"), write(b, "b.h5"), "", settings);
   }
 
-  // One of each A/B outcome: fx2d pile 10% slower (regression), fx2d stacks 10% faster but
-  // drifting (faster, less accurate), box2d pile untouched (unchanged), ode pile 10% faster
-  // (improvement), ode stacks with two repeats (inconclusive).
+  // One of each A/B outcome: fx2d pile 10% slower in time and in instructions (two
+  // regressions), fx2d stacks 10% faster but drifting (faster, less accurate), box2d pile
+  // untouched in time and instructions (unchanged), ode pile 10% faster (improvement; counted in
+  // A only, so no instructions row), ode stacks with two repeats (inconclusive).
   CompareReport mixed_report() const {
     RunRecord drifting = synthetic_run("fx2d", "stacks", 0.9, 5);
     drifting.accuracy[0].max_displacement = 0.01;
-    const ResultSet a = results_of({synthetic_run("fx2d", "pile", 1.0, 0), synthetic_run("fx2d", "stacks", 1.0, 0),
-                                    synthetic_run("box2d", "pile", 2.0, 0), synthetic_run("ode", "pile", 0.5, 0),
-                                    synthetic_run("ode", "stacks", 0.5, 0, 2)});
-    const ResultSet b =
-        results_of({synthetic_run("fx2d", "pile", 1.1, 5), drifting, synthetic_run("box2d", "pile", 2.0, 0),
-                    synthetic_run("ode", "pile", 0.45, 5), synthetic_run("ode", "stacks", 0.5, 5, 2)});
+    const ResultSet a =
+        results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), 40'000'000), synthetic_run("fx2d", "stacks", 1.0, 0),
+                    counted(synthetic_run("box2d", "pile", 2.0, 0), 80'000'000),
+                    counted(synthetic_run("ode", "pile", 0.5, 0), 20'000'000), synthetic_run("ode", "stacks", 0.5, 0, 2)});
+    const ResultSet b = results_of({counted(synthetic_run("fx2d", "pile", 1.1, 5), 44'000'000), drifting,
+                                    counted(synthetic_run("box2d", "pile", 2.0, 0), 80'000'000),
+                                    synthetic_run("ode", "pile", 0.45, 5), synthetic_run("ode", "stacks", 0.5, 5, 2)});
     return compare(a, b);
   }
 
@@ -138,7 +147,7 @@ TEST_F(CompareFiles, IdenticalFilesAreNoChangeWithSamePhysicsAndExitZero) {
     EXPECT_EQ(row.speed.speed, Speed::no_change) << row.metric;
     EXPECT_EQ(row.same_physics, true);
     EXPECT_EQ(row.test_name, "wilcoxon-signed-rank-paired");
-    EXPECT_EQ(row.test.p_value, 1.0);
+    EXPECT_EQ(row.test->p_value, 1.0);
   }
   EXPECT_EQ(row_of(report, "fx2d", "pile", "ms_per_step").verdict(), "no change");
   EXPECT_TRUE(report.warnings.empty());
@@ -265,6 +274,77 @@ TEST_F(CompareFiles, CorruptFileIsBadInput) {
   EXPECT_THROW(compare_files(corrupt, std::nullopt, "", {}), InputError);
 }
 
+// --- instruction counts ---------------------------------------------------------------------------
+
+// 40 steps of 1e6 instructions each.
+constexpr std::uint64_t reference_count = 40'000'000;
+
+TEST_F(CompareFiles, InstructionRowIsTheExactRatioWithNoTest) {
+  const CompareReport report = compare(results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count)}),
+                                       results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), 44'000'000)}));
+  ASSERT_EQ(report.rows.size(), 5u);  // ms, cycles, two phases, then instructions
+  const CompareRow& row = report.rows.back();
+  EXPECT_EQ(row.metric, "instructions_per_step");
+  EXPECT_EQ(row.a, 1e6);
+  EXPECT_EQ(row.b, 1.1e6);
+  EXPECT_EQ(row.estimate.ratio, 1.1);
+  EXPECT_EQ(row.estimate.ci.low, 1.1);
+  EXPECT_EQ(row.estimate.ci.high, 1.1);
+  EXPECT_FALSE(row.test.has_value());
+  EXPECT_EQ(row.test_name, "exact");
+  EXPECT_EQ(row.speed.speed, Speed::slower);
+  EXPECT_FALSE(row.speed.repeats_needed.has_value());
+  EXPECT_EQ(row_of(report, "fx2d", "pile", "ms_per_step").speed.speed, Speed::no_change);
+  // The time did not move, the instructions did: the count alone gates.
+  EXPECT_EQ(report.count_regressions(), 1);
+  EXPECT_EQ(report.exit_code(), exit_regression);
+  const auto json = compare_json(report);
+  EXPECT_TRUE(json["rows"][4]["p_value"].is_null());
+  EXPECT_EQ(json["rows"][4]["ci_low"], 1.1);
+  EXPECT_EQ(json["rows"][4]["regression"], true);
+}
+
+TEST_F(CompareFiles, InstructionVerdictsAtTheToleranceEdges) {
+  // 0.5% of 1e6 instructions per step is 5000 per step, 200000 over 40 steps; 40 more over
+  // 40 steps is one instruction per step beyond the edge.
+  const auto speed = [&](std::uint64_t b_count) {
+    const CompareReport report = compare(results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count)}),
+                                         results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), b_count)}));
+    return std::pair{row_of(report, "fx2d", "pile", "instructions_per_step").speed.speed, report.exit_code()};
+  };
+  EXPECT_EQ(speed(reference_count), std::pair(Speed::no_change, exit_ok));
+  EXPECT_EQ(speed(reference_count + 200'000), std::pair(Speed::no_change, exit_ok));
+  EXPECT_EQ(speed(reference_count + 200'040), std::pair(Speed::slower, exit_regression));
+  EXPECT_EQ(speed(reference_count - 200'000), std::pair(Speed::no_change, exit_ok));
+  EXPECT_EQ(speed(reference_count - 200'040), std::pair(Speed::faster, exit_ok));
+}
+
+TEST_F(CompareFiles, InstructionToleranceIsSettable) {
+  const ResultSet a = results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count)});
+  const ResultSet b = results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count + 200'040)});
+  CompareSettings wider;
+  wider.instructions_tolerance = 0.01;
+  EXPECT_EQ(compare(a, b, wider).exit_code(), exit_ok);
+  CompareSettings exact;
+  exact.instructions_tolerance = 0.0;
+  const ResultSet one_more = results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count + 1)});
+  EXPECT_EQ(compare(a, one_more, exact).exit_code(), exit_regression);
+}
+
+TEST_F(CompareFiles, CountsOnOneSideGiveNoInstructionRowAndOneWarning) {
+  const ResultSet a = results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count),
+                                  counted(synthetic_run("fx2d", "stacks", 1.0, 0), reference_count)});
+  const ResultSet b = results_of({synthetic_run("fx2d", "pile", 1.0, 5), synthetic_run("fx2d", "stacks", 1.0, 5)});
+  const CompareReport report = compare(a, b);
+  EXPECT_EQ(report.rows.size(), 8u);  // ms, cycles and two phases for each scene; no instructions
+  EXPECT_TRUE(std::ranges::none_of(report.rows, [](const CompareRow& row) { return row.metric == "instructions_per_step"; }));
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find("2 pairs of runs with instruction counts on one side only"), std::string::npos)
+      << report.warnings[0];
+  EXPECT_NE(report.warnings[0].find("--counter instructions"), std::string::npos) << report.warnings[0];
+  EXPECT_EQ(report.exit_code(), exit_ok);
+}
+
 ResultSet three_engines() {
   return results_of({synthetic_run("fx2d", "pile", 1.0, 0), synthetic_run("box2d", "pile", 2.0, 3),
                      synthetic_run("ode", "pile", 0.5, 6)});
@@ -293,6 +373,17 @@ TEST_F(CompareFiles, BaselineComparesEveryOtherEngineAgainstIt) {
   EXPECT_EQ(report.rows[2].engine, "ode");
   EXPECT_EQ(report.rows[2].against, "box2d");
   EXPECT_NEAR(report.rows[2].estimate.ratio, 0.25, 0.25 * 0.018);
+}
+
+TEST_F(CompareFiles, CrossEngineViewShowsInstructionRowsWithoutGating) {
+  const ResultSet results = results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count),
+                                        counted(synthetic_run("box2d", "pile", 2.0, 3), reference_count / 2)});
+  const CompareReport report = compare_files(write(results, "engines.h5"), std::nullopt, "", {});
+  const CompareRow& row = row_of(report, "fx2d", "pile", "instructions_per_step");
+  EXPECT_EQ(row.against, "box2d");
+  EXPECT_EQ(row.estimate.ratio, 2.0);
+  EXPECT_EQ(row.speed.speed, Speed::slower);
+  EXPECT_EQ(report.exit_code(), exit_ok);  // a report, not a gate
 }
 
 // --- the command line ---------------------------------------------------------------------------
@@ -341,6 +432,16 @@ TEST_F(CompareFiles, CommandRejectsBaselineWithTwoFilesAndJsonWithMarkdown) {
   EXPECT_THROW(run_compare({a, a, "--noise", "-0.1"}), CLI::ParseError);
 }
 
+TEST_F(CompareFiles, CommandTakesInstructionsToleranceAndRejectsOneOutOfRange) {
+  const std::string a = write(results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count)}), "a.h5");
+  const std::string b =
+      write(results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count + 400'000)}), "b.h5");
+  CapturedStdout captured;
+  EXPECT_EQ(run_compare({a, b}), exit_regression);
+  EXPECT_EQ(run_compare({a, b, "--instructions-tolerance", "0.02"}), exit_ok);
+  EXPECT_THROW(run_compare({a, b, "--instructions-tolerance", "-0.01"}), CLI::ParseError);
+}
+
 // --- outputs against goldens ----------------------------------------------------------------------
 
 std::string file_text(const fs::path& path) {
@@ -368,7 +469,10 @@ void expect_matches_golden(const std::string& text, const std::string& name) {
 
 TEST_F(CompareFiles, MixedOutcomesHeadlineAndExitCode) {
   const CompareReport report = mixed_report();
-  EXPECT_EQ(report.headline(), "2 regressions, 1 improvement, 1 unchanged, 1 inconclusive");
+  EXPECT_EQ(report.headline(), "3 regressions, 1 improvement, 2 unchanged, 1 inconclusive");
+  ASSERT_EQ(report.warnings.size(), 1u);  // ode pile counted in A only
+  EXPECT_NE(report.warnings[0].find("1 pair of runs with instruction counts on one side only"), std::string::npos)
+      << report.warnings[0];
   EXPECT_EQ(report.exit_code(), exit_regression);
 }
 

@@ -1,6 +1,9 @@
 // Solver regression: Fx2D's final poses and velocities on four scenes, compared to the bit with
-// tables under goldens/. Any change to the solver's arithmetic or order fires this test; a change
-// that is meant shows up as a reviewed diff of the regenerated tables.
+// tables under goldens/, and for the canonical scenes also hashed and compared with
+// goldens/state_hashes.json. Any change to the solver's arithmetic or order fires this test; a
+// change that is meant shows up as a reviewed diff of the regenerated tables. It needs no more of
+// the harness than fx2d_bench_portable, so the aarch64 cross build (ci/cross-aarch64) runs it
+// against the same files as every x86-64 build.
 //
 // Regenerate (never by hand):  FX2D_UPDATE_GOLDENS=1 ctest --test-dir build/release -R Golden
 // Shown to fire: with velocity_passes 4 -> 5 in scenes' fx2d settings, every table differs
@@ -11,9 +14,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
+#include "accuracy.h"
 #include "engines/engines.h"
 #include "scene_loader.h"
 
@@ -22,13 +28,17 @@ namespace {
 
 std::string golden_path(const std::string& name) { return std::string(FX2D_SOURCE_DIR) + "/goldens/fx2d_" + name + ".txt"; }
 
-// One line per body: x y angle vx vy w, printed with enough digits to round-trip exactly.
-std::string pose_table(const SceneSpec& scene, int steps) {
+std::vector<BodyState> final_state(const SceneSpec& scene, int steps) {
   auto engine = make_fx2d_engine();
   engine->build(scene);
   for (int i = 0; i < steps; ++i) engine->step();
   std::vector<BodyState> state;
   engine->read_state(state);
+  return state;
+}
+
+// One line per body: x y angle vx vy w, printed with enough digits to round-trip exactly.
+std::string pose_table(const SceneSpec& scene, int steps, const std::vector<BodyState>& state) {
   std::ostringstream out;
   out << "# fx2d final state: scene " << scene.name << ", " << scene.bodies.size() << " bodies, " << steps
       << " steps\n# x y angle vx vy w\n";
@@ -45,6 +55,10 @@ struct GoldenCase {
   const char* name;   // golden file suffix
   const char* scene;  // path below the source directory
   int bodies;         // 0: the scene's own size
+  // The entry of goldens/state_hashes.json that holds this final state's hash, or nullptr. That
+  // file is written by determinism_test from `fx2d-bench run` at each canonical scene's own size;
+  // hashing the same state here checks it in builds that have no fx2d-bench.
+  const char* state_hash_entry;
   friend void PrintTo(const GoldenCase& c, std::ostream* os) { *os << c.name; }
 };
 
@@ -69,7 +83,8 @@ TEST_P(Golden, FinalStateMatchesTableToTheBit) {
   SceneOverrides overrides;
   if (c.bodies > 0) overrides.bodies = c.bodies;
   const SceneSpec scene = load_scene_file(std::string(FX2D_SOURCE_DIR) + "/" + c.scene, overrides);
-  const std::string actual = pose_table(scene, scene.steps);
+  const std::vector<BodyState> state = final_state(scene, scene.steps);
+  const std::string actual = pose_table(scene, scene.steps, state);
   const std::string path = golden_path(c.name);
   if (std::getenv("FX2D_UPDATE_GOLDENS")) {
     std::ofstream(path) << actual;
@@ -81,13 +96,22 @@ TEST_P(Golden, FinalStateMatchesTableToTheBit) {
   expected << file.rdbuf();
   EXPECT_TRUE(actual == expected.str()) << "final state differs from " << path << " at "
                                         << first_difference(expected.str(), actual);
+  if (c.state_hash_entry != nullptr) {
+    std::ifstream hashes_file(std::string(FX2D_SOURCE_DIR) + "/goldens/state_hashes.json");
+    const auto hashes = nlohmann::json::parse(hashes_file, nullptr, false);
+    ASSERT_TRUE(hashes.is_object()) << "goldens/state_hashes.json is missing or not a JSON object";
+    EXPECT_EQ(state_hash(state), hashes.value(c.state_hash_entry, ""))
+        << "final state hash differs from goldens/state_hashes.json /" << c.state_hash_entry;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, Golden,
-                         ::testing::Values(GoldenCase{"stacks_50", "scenes/stacks.json", 50},
-                                           GoldenCase{"pile_300", "scenes/pile.json", 300},
-                                           GoldenCase{"settling_boxes_200", "scenes/settling_boxes.json", 200},
-                                           GoldenCase{"joints_and_bounce", "scenes/tests/joints_and_bounce.json", 0}),
+                         ::testing::Values(GoldenCase{"stacks_50", "scenes/stacks.json", 50, "stacks"},
+                                           GoldenCase{"pile_300", "scenes/pile.json", 300, "pile"},
+                                           GoldenCase{"settling_boxes_200", "scenes/settling_boxes.json", 200,
+                                                      "settling_boxes"},
+                                           GoldenCase{"joints_and_bounce", "scenes/tests/joints_and_bounce.json", 0,
+                                                      nullptr}),
                          [](const ::testing::TestParamInfo<GoldenCase>& param) { return std::string(param.param.name); });
 
 }  // namespace

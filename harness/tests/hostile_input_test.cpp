@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "bench_process.h"
+#include "file_integrity.h"
 
 namespace fxbench {
 namespace {
@@ -45,6 +46,9 @@ void expect_one_line_refusal(const Ending& ending, const std::string& what) {
   EXPECT_EQ(std::count(ending.err.begin(), ending.err.end(), '\n'), 1) << ending.err;
   EXPECT_NE(ending.err.find(what), std::string::npos) << "expected '" << what << "' in: " << ending.err;
 }
+
+constexpr const char* no_header = "not an fx2d-bench result file (no fx2d-bench header)";
+constexpr const char* corrupt = "corrupt or truncated";
 
 void expect_refused_before_allocating(const Ending& ending, const std::string& what) {
   expect_one_line_refusal(ending, what);
@@ -97,12 +101,31 @@ class HostileInputTest : public ::testing::Test {
 };
 
 TEST_F(HostileInputTest, ZeroLengthResultFileIsRefused) {
-  expect_result_readers_refuse(write_file("empty.h5", ""), "not an HDF5 file");
+  expect_result_readers_refuse(write_file("empty.h5", ""), no_header);
 }
 
 TEST_F(HostileInputTest, TruncatedResultFileIsRefused) {
   const std::string bytes = good_bytes();
-  expect_result_readers_refuse(write_file("truncated.h5", bytes.substr(0, bytes.size() / 2)), "truncated or damaged");
+  for (const std::size_t length : {std::size_t{100}, bytes.size() / 2, bytes.size() - 1}) {
+    expect_result_readers_refuse(write_file("truncated_" + std::to_string(length) + ".h5", bytes.substr(0, length)),
+                                 corrupt);
+  }
+}
+
+TEST_F(HostileInputTest, ResultFileWithOneByteFlippedIsRefused) {
+  const std::string bytes = good_bytes();
+  // The first byte libhdf5 would read, one in the middle, the last.
+  for (const std::size_t at : {h5_seal_bytes, (h5_seal_bytes + bytes.size()) / 2, bytes.size() - 1}) {
+    std::string flipped = bytes;
+    flipped[at] = static_cast<char>(flipped[at] ^ 0x20);
+    expect_result_readers_refuse(write_file("flipped_" + std::to_string(at) + ".h5", flipped),
+                                 "corrupt or truncated (checksum mismatch)");
+  }
+}
+
+TEST_F(HostileInputTest, ValidHdf5FileWithoutTheSealIsRefused) {
+  // The HDF5 file proper with its user block cut off: libhdf5 and h5py open it, fx2d-bench does not.
+  expect_result_readers_refuse(write_file("unsealed.h5", good_bytes().substr(h5_seal_bytes)), no_header);
 }
 
 TEST_F(HostileInputTest, ResultFileOfAnotherSchemaVersionIsRefused) {
@@ -112,11 +135,13 @@ TEST_F(HostileInputTest, ResultFileOfAnotherSchemaVersionIsRefused) {
   const std::size_t at = bytes.find(schema);
   ASSERT_NE(at, std::string::npos);
   bytes.replace(at, schema.size(), "fx2d-bench.results/9");
-  expect_result_readers_refuse(write_file("future.h5", bytes), "fx2d-bench.results/9");
+  const fs::path future = write_file("future.h5", bytes);
+  seal_h5_file(future.string());  // as a future fx2d-bench would have written it
+  expect_result_readers_refuse(future, "fx2d-bench.results/9");
 }
 
 TEST_F(HostileInputTest, FileThatIsNotHdf5IsRefused) {
-  expect_result_readers_refuse(write_file("text.h5", "engine,ms\nfx2d,1.0\n"), "not an HDF5 file");
+  expect_result_readers_refuse(write_file("text.h5", "engine,ms\nfx2d,1.0\n"), no_header);
 }
 
 TEST_F(HostileInputTest, SparseFourGibibyteFileIsRefusedWithoutBeingRead) {
@@ -127,13 +152,20 @@ TEST_F(HostileInputTest, SparseFourGibibyteFileIsRefusedWithoutBeingRead) {
   ASSERT_EQ(ftruncate(descriptor, off_t{4} << 30), 0);
   close(descriptor);
   const Ending compared = run_bench({"compare", huge.string(), good_file().string()}, directory_);
-  expect_refused_before_allocating(compared, "not an HDF5 file");
+  expect_refused_before_allocating(compared, no_header);
   // Reading 4 GiB of zeros, even from the page cache, takes well over a second on this machine.
   EXPECT_LT(compared.seconds, 1.0);
 }
 
 TEST_F(HostileInputTest, BillionBodiesAreRefusedBeforeAnyAllocation) {
   expect_refused_before_allocating(run_scene({"--bodies", "1000000000"}), "--bodies");
+}
+
+TEST_F(HostileInputTest, OdeRefusesMoreBodiesThanItsHashSpaceCanHoldBeforeBuilding) {
+  // 70,000 circles: ODE's hash space would clear a 612 MB bit table every step (engines/ode.cpp).
+  const Ending ending =
+      run_bench({"run", "pile", "--engine", "ode", "--bodies", "70000", "--repeats", "1", "--steps", "1"}, directory_);
+  expect_refused_before_allocating(ending, "the ODE adapter takes at most 65536");
 }
 
 TEST_F(HostileInputTest, NegativeBodyCountIsRefused) {

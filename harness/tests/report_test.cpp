@@ -214,6 +214,63 @@ TEST_F(ReportOfSmallRun, RefusesAnExistingReportWithoutForceAndReplacesItWithFor
   EXPECT_FALSE(fs::exists(page_dir() / "ab_0.png")) << "a replaced report keeps none of the old one's files";
 }
 
+// A nightly history of three nights written by `fx2d-bench history append`: fx2d steady, then 10%
+// slower (a step the gate detects), then accepted as the new baseline. The report draws its trend.
+class ReportOfHistory : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    scratch_ = fs::temp_directory_path() / ("fx2d_report_history_" + std::to_string(getpid()));
+    fs::create_directories(scratch_);
+    const std::string policy = std::string(FX2D_SOURCE_DIR) + "/ci/gating.json";
+    const struct {
+      const char* date;
+      double ratio;
+      const char* extra;
+    } nights[] = {{"2026-11-01T02:00:00Z", 1.0, ""}, {"2026-11-02T02:00:00Z", 1.1, ""},
+                  {"2026-11-03T02:00:00Z", 1.1, " --accepted"}};
+    for (const auto& night : nights) {
+      std::ofstream(scratch_ / "compare.json") << compare_json(night.ratio);
+      const Outcome appended =
+          shell(bench("history append " + history().string() + " --compare " + (scratch_ / "compare.json").string() +
+                      " --candidate c --baseline b --policy " + policy + " --date " + night.date + night.extra),
+                scratch_);
+      ASSERT_EQ(appended.exit_code, 0) << appended.err;
+    }
+    report_ = shell(bench("report " + history().string() + " -o " + (scratch_ / "report").string()), scratch_);
+  }
+  void TearDown() override { fs::remove_all(scratch_); }
+
+  // One significant fx2d row at `ratio` and a steady Box2D control.
+  static std::string compare_json(double ratio) {
+    const auto row = [](const char* engine, double r, double p) {
+      return std::string("{\"engine\": \"") + engine + "\", \"scene\": \"pile\", \"bodies\": 600, \"metric\": " +
+             "\"ms_per_step\", \"a\": 1.0, \"b\": " + std::to_string(r) + ", \"ratio\": " + std::to_string(r) +
+             ", \"ci_low\": " + std::to_string(r - 0.01) + ", \"ci_high\": " + std::to_string(r + 0.01) +
+             ", \"p_value\": " + std::to_string(p) + ", \"verdict\": \"\"}";
+    };
+    return "{\"schema\": \"fx2d-bench.compare/1\", \"mode\": \"ab\", \"rows\": [" + row("fx2d", ratio, 0.001) + ", " +
+           row("box2d", 1.0, 0.9) + "]}";
+  }
+
+  fs::path history() const { return scratch_ / "history.h5"; }
+
+  fs::path scratch_;
+  Outcome report_;
+};
+
+TEST_F(ReportOfHistory, HistoryFileProducesTheTrendChartAndTheLastNight) {
+  ASSERT_EQ(report_.exit_code, 0) << report_.err;
+  const fs::path page = scratch_ / "report" / "index.html";
+  const std::vector<std::string> sources = image_sources(read_text(page));
+  ASSERT_EQ(sources, std::vector<std::string>{"history_history_h5_ms_per_step.png"});
+  EXPECT_EQ(read_text(scratch_ / "report" / sources[0]).substr(0, 8), "\x89PNG\r\n\x1a\n");
+  const std::string html = read_text(page);
+  EXPECT_EQ(html.find("No nightly history file among the inputs"), std::string::npos);
+  EXPECT_NE(html.find("Last night (2026-11-03T02:00:00Z)"), std::string::npos);
+  // The second and third nights were 10% slower beyond the band: the gate saw a step each night.
+  EXPECT_NE(html.find("<td>step</td><td>yes</td>"), std::string::npos) << "the accepted night's fx2d row";
+}
+
 class ReportRefusals : public ::testing::Test {
  protected:
   void SetUp() override {

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "errors.h"
+#include "file_integrity.h"
 
 namespace fxbench {
 namespace {
@@ -136,6 +137,9 @@ class ResultsFile : public ::testing::Test {
   std::string path_;
 };
 
+constexpr const char* no_header = "not an fx2d-bench result file (no fx2d-bench header)";
+constexpr const char* corrupt = "corrupt or truncated";
+
 void expect_one_line_naming(const std::string& message, const std::string& path,
                             const std::string& expected) {
   EXPECT_EQ(message.find('\n'), std::string::npos) << message;
@@ -216,19 +220,99 @@ TEST_F(ResultsFile, UnreadableFilesGiveOneLineInputErrors) {
 
   const std::string empty = (directory_ / "empty.h5").string();
   write_text(empty, "");
-  expect_one_line_naming(read_error(empty), empty, "not an HDF5 file");
+  expect_one_line_naming(read_error(empty), empty, no_header);
 
   const std::string text = (directory_ / "text.h5").string();
   write_text(text, "wall_ms,cpu_ms\n0.1,0.1\n");
-  expect_one_line_naming(read_error(text), text, "not an HDF5 file");
+  expect_one_line_naming(read_error(text), text, no_header);
 
   const std::string truncated = (directory_ / "truncated.h5").string();
   write_text(truncated, whole.substr(0, whole.size() / 2));
-  expect_one_line_naming(read_error(truncated), truncated, "truncated or damaged");
+  expect_one_line_naming(read_error(truncated), truncated, corrupt);
 
+  // A valid HDF5 file, but not one fx2d-bench sealed: libhdf5 is never asked to open it.
   const std::string bare = (directory_ / "bare.h5").string();
   H5Fclose(H5Fcreate(bare.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
-  expect_one_line_naming(read_error(bare), bare, "no root attribute 'schema'");
+  expect_one_line_naming(read_error(bare), bare, no_header);
+
+  // The same seal on a file without schema: past the seal, the reader's own checks still hold.
+  const std::string sealed_bare = (directory_ / "sealed_bare.h5").string();
+  const hid_t creation = H5Pcreate(H5P_FILE_CREATE);
+  H5Pset_userblock(creation, h5_seal_bytes);
+  H5Fclose(H5Fcreate(sealed_bare.c_str(), H5F_ACC_TRUNC, creation, H5P_DEFAULT));
+  H5Pclose(creation);
+  seal_h5_file(sealed_bare);
+  expect_one_line_naming(read_error(sealed_bare), sealed_bare, "no root attribute 'schema'");
+}
+
+TEST_F(ResultsFile, BytesFlippedAfterTheSealAreRefused) {
+  write_results_h5(sample_results(), path_, false);
+  const std::string whole = file_text(path_);
+  const std::string damaged = (directory_ / "damaged.h5").string();
+  // FNV-1a guarantees that any single-byte change shows (file_integrity.h); this samples it: all
+  // of the superblock libhdf5 reads first, then every 61st byte (a prime, so the samples fall at
+  // every offset within HDF5's 8-byte fields) to the last. Writing the file for every byte would
+  // take a minute of disk traffic.
+  std::vector<std::size_t> offsets;
+  for (std::size_t at = h5_seal_bytes; at < h5_seal_bytes + 96; ++at) offsets.push_back(at);
+  for (std::size_t at = h5_seal_bytes + 96; at < whole.size(); at += 61) offsets.push_back(at);
+  offsets.push_back(whole.size() - 1);
+  for (const std::size_t at : offsets) {
+    std::string bytes = whole;
+    bytes[at] = static_cast<char>(bytes[at] ^ 0x01);
+    write_text(damaged, bytes);
+    const std::string message = read_error(damaged);
+    if (message != damaged + ": corrupt or truncated (checksum mismatch)") {
+      ADD_FAILURE() << "byte " << at << " of " << whole.size() << " flipped: " << message;
+      break;
+    }
+  }
+}
+
+TEST_F(ResultsFile, TruncatedFilesAreRefusedAtEveryLength) {
+  write_results_h5(sample_results(), path_, false);
+  const std::string whole = file_text(path_);
+  const std::string cut = (directory_ / "cut.h5").string();
+  // Shorter than the first line of the seal, there is no seal to speak of; from there on the
+  // header, its length or its checksum disagrees with what is left.
+  for (const std::size_t length : {std::size_t{0}, std::size_t{10}}) {
+    write_text(cut, whole.substr(0, length));
+    expect_one_line_naming(read_error(cut), cut, no_header);
+  }
+  for (const std::size_t length : {std::size_t{40}, h5_seal_bytes - 1, h5_seal_bytes, h5_seal_bytes + 8,
+                                   whole.size() / 2, whole.size() - 1}) {
+    SCOPED_TRACE(length);
+    write_text(cut, whole.substr(0, length));
+    expect_one_line_naming(read_error(cut), cut, corrupt);
+  }
+  write_text(cut, whole + std::string(1, '\0'));
+  expect_one_line_naming(read_error(cut), cut, corrupt);
+}
+
+// libhdf5 crashed, hung or overran its buffers inside H5Fopen, H5Gopen or H5Aread on these
+// (found by harness/fuzz/results_reader_fuzz.cpp); none carries a seal, so none reaches it now.
+TEST_F(ResultsFile, PastLibhdf5CrashReproducersAreRefusedBeforeLibhdf5) {
+  const fs::path crashes = fs::path(FX2D_SOURCE_DIR) / "harness" / "fuzz" / "crashes" / "results_reader";
+  int replayed = 0;
+  for (const auto& entry : fs::directory_iterator(crashes)) {
+    expect_one_line_naming(read_error(entry.path().string()), entry.path().string(), no_header);
+    ++replayed;
+  }
+  EXPECT_GE(replayed, 4);
+}
+
+TEST_F(ResultsFile, SealStatesTheLengthInPlainText) {
+  write_results_h5(sample_results(), path_, false);
+  const std::string whole = file_text(path_);
+  const std::string header = whole.substr(0, whole.find('\0'));
+  char length[21];
+  std::snprintf(length, sizeof length, "%020zu", whole.size());
+  EXPECT_EQ(header.rfind("fx2d-bench sealed HDF5 file\nformat 1\nlength " + std::string(length) +
+                             "\nchecksum fnv1a64 ",
+                         0),
+            0u)
+      << header;
+  EXPECT_EQ(whole.substr(h5_seal_bytes, 4), "\x89HDF");
 }
 
 TEST_F(ResultsFile, UnknownSchemaIsRefused) {
@@ -245,6 +329,7 @@ TEST_F(ResultsFile, UnknownSchemaIsRefused) {
   H5Sclose(space);
   H5Tclose(type);
   H5Fclose(file);
+  seal_h5_file(path_);  // as if written so: the check after the seal is the one under test
   expect_one_line_naming(read_error(path_), path_, "schema 'fx2d-bench.results/2' is not supported");
 }
 
@@ -253,6 +338,7 @@ TEST_F(ResultsFile, MissingDatasetIsNamed) {
   const hid_t file = H5Fopen(path_.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   H5Ldelete(file, "/runs/1/cpu_ms", H5P_DEFAULT);
   H5Fclose(file);
+  seal_h5_file(path_);
   expect_one_line_naming(read_error(path_), path_, "/runs/1: missing dataset 'cpu_ms'");
 }
 
@@ -390,6 +476,47 @@ TEST_F(ResultsFile, LayoutMatchesGolden) {
   EXPECT_EQ(layout, file_text(golden))
       << "the result-file layout changed; if deliberately, regenerate " << golden
       << " as this file's header says and update RESULTS_FORMAT.md";
+}
+
+// A run counted with --counter instructions; the count is near the top of uint64, where a
+// round trip through a double would lose its last digits.
+ResultSet counted_results() {
+  ResultSet results = sample_results();
+  results.runs[0].instruction_count =
+      InstructionCount{std::numeric_limits<std::uint64_t>::max() - 12345, 3, "callgrind", "valgrind-3.19.0"};
+  return results;
+}
+
+TEST_F(ResultsFile, InstructionCountRoundTripsExactlyAndIsAbsentWhereNotCounted) {
+  const ResultSet written = counted_results();
+  write_results_h5(written, path_, false);
+  const ResultSet read = read_results_h5(path_);
+  ASSERT_TRUE(read.runs[0].instruction_count.has_value());
+  EXPECT_EQ(*read.runs[0].instruction_count, *written.runs[0].instruction_count);
+  EXPECT_FALSE(read.runs[1].instruction_count.has_value());
+  EXPECT_TRUE(read == written);
+}
+
+TEST_F(ResultsFile, InstructionCountIsOneScalarDatasetWithItsProvenance) {
+  write_results_h5(counted_results(), path_, false);
+  const std::string layout = layout_of(path_);
+  const std::string counted =
+      "/runs/0/instructions dataset uint64le scalar\n"
+      "/runs/0/instructions@steps int32le scalar = 3\n"
+      "/runs/0/instructions@tool vlen-string(utf-8) scalar = \"callgrind\"\n"
+      "/runs/0/instructions@tool_version vlen-string(utf-8) scalar = \"valgrind-3.19.0\"\n"
+      "/runs/0/instructions@units vlen-string(utf-8) scalar = \"instructions\"\n";
+  EXPECT_NE(layout.find(counted), std::string::npos) << layout;
+  EXPECT_EQ(layout.find("/runs/1/instructions"), std::string::npos) << layout;
+}
+
+TEST_F(ResultsFile, MalformedInstructionCountIsNamed) {
+  write_results_h5(counted_results(), path_, false);
+  const hid_t file = H5Fopen(path_.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  H5Adelete_by_name(file, "/runs/0/instructions", "steps", H5P_DEFAULT);
+  H5Fclose(file);
+  seal_h5_file(path_);
+  expect_one_line_naming(read_error(path_), path_, "/runs/0/instructions: missing attribute 'steps'");
 }
 
 TEST_F(ResultsFile, H5pyReadsTheFile) {

@@ -38,6 +38,17 @@ TEST(Median, RowMeansAndColumnMediansReadARepeatMajorMatrix) {
   EXPECT_EQ(column_medians(matrix, 2), (std::vector<double>{2.0, 4.0}));
 }
 
+TEST(Median, RowMediansIgnoreAMinorityOfHugeStepsAndAPartialLastRow) {
+  // 2 repeats x 5 steps and one stray value: the 40.0 and 90.0 (preempted steps) do not move the
+  // medians 3.0 and 5.0, where they raise the means to 10.2 and 22.2.
+  const std::vector<double> matrix = {1.0, 40.0, 3.0, 2.0, 5.0,   // repeat 0
+                                      5.0, 4.0, 90.0, 6.0, 6.0,   // repeat 1
+                                      7.0};
+  EXPECT_EQ(row_medians(matrix, 5), (std::vector<double>{3.0, 6.0}));
+  EXPECT_EQ(row_means(matrix, 5), (std::vector<double>{10.2, 22.2}));
+  EXPECT_TRUE(row_medians(matrix, 0).empty());
+}
+
 TEST(Bootstrap, IdenticalSamplesGiveRatioExactlyOneAndNoChange) {
   const std::vector<double> a = noisy(1.0, 0.008, 10);
   const RatioEstimate estimate = bootstrap_median_ratio(a, a);
@@ -146,6 +157,66 @@ TEST(PairedTest, IdenticalStepsAndStepsWithoutTimeGivePOne) {
   EXPECT_EQ(paired_log_ratio_test(std::vector<double>{1.0, 2.0, 3.0}, std::vector<double>{1.0, 2.0, 3.0}).p_value, 1.0);
   // A step with a zero median carries no ratio: only the equal steps remain.
   EXPECT_EQ(paired_log_ratio_test(std::vector<double>{0.0, 1.0, 2.0}, std::vector<double>{5.0, 1.0, 2.0}).p_value, 1.0);
+}
+
+// --- preemption: what compare does with a run's [repeats x steps] samples ------------------------
+
+// `rounds` x `steps` step times as a loaded machine records them: step s costs
+// scale * (0.2 + 0.002 s) ms (a scene whose steps grow dearer), times +-0.5% per round (machine
+// state) and +-0.5% per step; and in round r the scheduler preempts (r + phase) % 4 steps, each
+// of which then takes 3 ms more, 7 to 14 times its own cost, as a time slice given to another
+// process does. `phase` shifts every pattern, so two runs never share their noise.
+std::vector<double> preempted_steps(double scale, int phase, int rounds = 30, int steps = 60) {
+  std::vector<double> matrix;
+  for (int r = 0; r < rounds; ++r) {
+    const double round_factor = 1.0 + 0.005 * (((r * 5 + phase) % 7) - 3) / 3.0;
+    const int preempted = (r + phase) % 4;
+    for (int s = 0; s < steps; ++s) {
+      const double step_factor = 1.0 + 0.005 * (((r * 7 + s * 3 + phase) % 11) - 5) / 5.0;
+      const bool is_preempted = ((s * 13 + r * 17 + phase) % steps) < preempted;
+      matrix.push_back(scale * (0.2 + 0.002 * s) * round_factor * step_factor + (is_preempted ? 3.0 : 0.0));
+    }
+  }
+  return matrix;
+}
+
+struct Judged {
+  RatioEstimate estimate;
+  Speed speed = Speed::inconclusive;
+};
+
+// compare's speed row (compare.cpp): the bootstrap over one figure per round, and the paired test
+// of the per-step medians across rounds.
+Judged judge(const std::vector<double>& a, const std::vector<double>& b, bool by_median, int steps = 60) {
+  const auto per_round = [&](const std::vector<double>& matrix) {
+    return by_median ? row_medians(matrix, steps) : row_means(matrix, steps);
+  };
+  const RatioEstimate estimate = bootstrap_median_ratio(per_round(a), per_round(b));
+  const RankTest test = paired_log_ratio_test(column_medians(a, steps), column_medians(b, steps));
+  return {estimate, decide_speed(estimate, test, static_cast<int>(per_round(a).size()), VerdictRules{}).speed};
+}
+
+TEST(Preemption, RoundMeansAreThrownOutOfTheBandButRoundMediansSeeNoChange) {
+  const std::vector<double> a = preempted_steps(1.0, 0);
+  const std::vector<double> b = preempted_steps(1.0, 1);
+  // 0 to 3 steps of 3 ms in a round of 60 add 0 to 0.15 ms to a mean of 0.259 ms: round means
+  // spread over +-29%, and the interval of their medians' ratio leaves the 2% band.
+  EXPECT_EQ(judge(a, b, false).speed, Speed::inconclusive);
+  // At most 3 of 60 steps preempted move a round's median at most 3 places up the sorted steps,
+  // 3 * 0.002 = 0.006 ms on a median near 0.26 ms (2.3%), and equally often in A and B; with
+  // the +-0.5% factors, the 30 round medians of each run lie within 3.3% and their ratio's
+  // interval within the band.
+  const Judged same = judge(a, b, true);
+  EXPECT_EQ(same.speed, Speed::no_change);
+  EXPECT_NEAR(same.estimate.ratio, 1.0, 0.01);
+}
+
+TEST(Preemption, RoundMediansFindAFivePercentSlowdownThroughThePreemptions) {
+  const Judged slower = judge(preempted_steps(1.0, 0), preempted_steps(1.05, 1), true);
+  EXPECT_EQ(slower.speed, Speed::slower);
+  EXPECT_NEAR(slower.estimate.ratio, 1.05, 0.01);
+  EXPECT_GT(slower.estimate.ci.low, 1.02);
+  EXPECT_LT(slower.estimate.ci.high, 1.08);
 }
 
 // --- the verdict at its boundaries ---------------------------------------------------------------

@@ -1,0 +1,32 @@
+# Cross-compiles for 64-bit Arm Linux with Debian's toolchain (g++-aarch64-linux-gnu) and runs the
+# results under qemu-user, so ctest on an x86-64 machine runs the aarch64 binaries. ci/cross-aarch64
+# uses it; by hand:
+#   cmake -S . -B build/aarch64 --toolchain cmake/toolchains/aarch64-linux-gnu.cmake
+set(CMAKE_SYSTEM_NAME Linux)
+set(CMAKE_SYSTEM_PROCESSOR aarch64)
+set(fx2d_target_triple aarch64-linux-gnu)
+set(CMAKE_C_COMPILER ${fx2d_target_triple}-gcc)
+set(CMAKE_CXX_COMPILER ${fx2d_target_triple}-g++)
+
+# The target's C library and libstdc++ live under this root; qemu loads them from there too.
+set(fx2d_target_root /usr/${fx2d_target_triple})
+set(CMAKE_CROSSCOMPILING_EMULATOR qemu-aarch64 -L ${fx2d_target_root})
+
+# Libraries and packages come from the target root only, never the host's; programs (python,
+# git) are the host's.
+list(APPEND CMAKE_FIND_ROOT_PATH ${fx2d_target_root})
+set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
+set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
+set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
+set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE ONLY)
+
+# Eigen and nlohmann-json are header-only and the same on every architecture, so the host's
+# packages serve the target. Their CMake packages are found where Debian puts them, outside the
+# target root. nlohmann-json's target adds the host's /usr/include to the include path; searching
+# it with -idirafter (after every directory of the target's own) keeps the host's C library
+# headers from ever shadowing the target's, and makes CMake's compiler probe count /usr/include as
+# implicit, so it drops nlohmann-json's -isystem /usr/include from the command lines.
+set(Eigen3_DIR /usr/share/eigen3/cmake CACHE PATH "Eigen3Config.cmake (header-only, from the host)")
+set(nlohmann_json_DIR /usr/share/cmake/nlohmann_json CACHE PATH "nlohmann_jsonConfig.cmake (header-only, from the host)")
+set(CMAKE_C_FLAGS_INIT "-idirafter /usr/include")
+set(CMAKE_CXX_FLAGS_INIT "-idirafter /usr/include")

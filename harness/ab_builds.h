@@ -1,0 +1,37 @@
+// What `fx2d-bench ab --a X --b Y` names, turned into a loaded engine plugin: a plugin file, a
+// build directory holding one, the word `worktree` (the source tree this binary was built from,
+// uncommitted changes included), or any git revision of that tree.
+//
+// A revision is extracted (git archive) and built with the plugin project of THIS tree
+// (harness/plugin/CMakeLists.txt, FX2D_ROOT = the extracted tree), in Release with the flags this
+// binary was configured with, then the extra --a-cmake/--b-cmake arguments. Builds are cached in
+// ${XDG_CACHE_HOME:-$HOME/.cache}/fx2d-bench/ab/<full sha>-<hash>/, the hash covering the CMake
+// arguments and the plugin sources, so the same request never builds twice; the worktree's build
+// directory is kept and rebuilt incrementally each time.
+//
+// Invariants: a cached build is used only when its `complete` stamp exists (a failed or killed
+// build is started again from scratch); build output goes to the build's log file, progress to
+// stderr; a failure is one InputError line naming the option, the revision and the log.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "engines/plugin_engine.h"
+
+namespace fxbench {
+
+struct PluginBuild {
+  std::shared_ptr<const Plugin> plugin;
+  // Which build this is, for result files and tables, e.g. "a1b2c3d (HEAD~1) -DFX2D_NATIVE=ON".
+  std::string description;
+};
+
+// Resolves `spec`, given as `option` (e.g. "--a"), with extra CMake arguments `cmake_args`
+// (whitespace-separated; only for a revision or `worktree`). Builds when needed. Throws InputError.
+PluginBuild prepare_plugin_build(const std::string& option, const std::string& spec, const std::string& cmake_args);
+
+// Where revision builds are cached.
+std::string ab_cache_directory();
+
+}  // namespace fxbench

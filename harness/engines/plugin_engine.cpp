@@ -1,0 +1,201 @@
+// Plugin loading and the Engine over a plugin table; invariants in plugin_engine.h.
+#include "engines/plugin_engine.h"
+
+#include <dlfcn.h>
+
+#include <filesystem>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "errors.h"
+
+namespace fxbench {
+namespace {
+
+Fx2dBenchVec2 to_c(Vec2 v) { return {v.x, v.y}; }
+
+int32_t body_type_of(BodyType type) {
+  switch (type) {
+    case BodyType::static_body: return FX2D_BENCH_STATIC_BODY;
+    case BodyType::kinematic: return FX2D_BENCH_KINEMATIC_BODY;
+    case BodyType::dynamic: return FX2D_BENCH_DYNAMIC_BODY;
+  }
+  throw std::logic_error("plugin engine: unknown body type");
+}
+
+int32_t shape_of(ShapeKind shape) {
+  switch (shape) {
+    case ShapeKind::circle: return FX2D_BENCH_CIRCLE;
+    case ShapeKind::box: return FX2D_BENCH_BOX;
+    case ShapeKind::polygon: return FX2D_BENCH_POLYGON;
+  }
+  throw std::logic_error("plugin engine: unknown shape kind");
+}
+
+int32_t count_of(std::size_t size) { return static_cast<int32_t>(size); }
+
+// The scene as the flat structs of the ABI, holding everything the structs point to.
+class FlatScene {
+ public:
+  explicit FlatScene(const SceneSpec& spec) {
+    std::size_t vertex_count = 0;
+    for (const BodySpec& body : spec.bodies) vertex_count += body.vertices.size();
+    vertices_.reserve(vertex_count);  // bodies point into it: it must never reallocate
+    bodies_.reserve(spec.bodies.size());
+    for (const BodySpec& body : spec.bodies) bodies_.push_back(flat_body(body));
+    joints_.reserve(spec.joints.size());
+    for (const JointSpec& joint : spec.joints) {
+      joints_.push_back({joint.kind == JointKind::distance ? FX2D_BENCH_DISTANCE_JOINT : FX2D_BENCH_REVOLUTE_JOINT,
+                         joint.body_a, joint.body_b, to_c(joint.local_anchor_a), to_c(joint.local_anchor_b),
+                         joint.length});
+    }
+    scene_ = {to_c(spec.gravity),
+              spec.dt,
+              bodies_.data(),
+              count_of(bodies_.size()),
+              joints_.data(),
+              count_of(joints_.size()),
+              {spec.fx2d.substeps, spec.fx2d.velocity_passes, spec.fx2d.sleeping ? 1 : 0}};
+  }
+
+  const Fx2dBenchScene& scene() const { return scene_; }
+
+ private:
+  Fx2dBenchBody flat_body(const BodySpec& body) {
+    const Fx2dBenchVec2* vertices = vertices_.data() + vertices_.size();
+    for (const Vec2& v : body.vertices) vertices_.push_back(to_c(v));
+    return {body_type_of(body.type),
+            shape_of(body.shape),
+            body.radius,
+            to_c(body.half_extents),
+            vertices,
+            count_of(body.vertices.size()),
+            to_c(body.position),
+            body.angle,
+            to_c(body.linear_velocity),
+            body.angular_velocity,
+            body.material.density,
+            body.material.static_friction,
+            body.material.dynamic_friction,
+            body.material.restitution};
+  }
+
+  std::vector<Fx2dBenchVec2> vertices_;
+  std::vector<Fx2dBenchBody> bodies_;
+  std::vector<Fx2dBenchJoint> joints_;
+  Fx2dBenchScene scene_{};
+};
+
+class PluginEngine final : public Engine {
+ public:
+  explicit PluginEngine(std::shared_ptr<const Plugin> plugin) : plugin_(std::move(plugin)), table_(plugin_->table()) {}
+  PluginEngine(const PluginEngine&) = delete;
+  PluginEngine& operator=(const PluginEngine&) = delete;
+  ~PluginEngine() override {
+    if (instance_ != nullptr) table_.destroy(instance_);
+  }
+
+  std::vector<std::string> phase_names() const override {
+    std::vector<std::string> names;
+    for (int32_t i = 0; i < table_.phase_count(); ++i) names.emplace_back(table_.phase_name(i));
+    return names;
+  }
+
+  void build(const SceneSpec& scene) override {
+    const FlatScene flat(scene);
+    char error[512] = "";
+    Fx2dBenchInstance* instance = table_.create(&flat.scene(), error, sizeof error);
+    if (instance == nullptr) throw std::runtime_error(error[0] != '\0' ? error : "plugin: create failed");
+    if (instance_ != nullptr) table_.destroy(instance_);
+    instance_ = instance;
+    states_.resize(scene.bodies.size());
+  }
+
+  void step() override { table_.step(instance_); }
+
+  void read_phases(std::span<double> ms) const override {
+    table_.read_phases(instance_, ms.data(), count_of(ms.size()));
+  }
+
+  int contact_count() const override { return table_.contact_count(instance_); }
+
+  void read_state(std::vector<BodyState>& out) const override {
+    table_.read_state(instance_, states_.data(), count_of(states_.size()));
+    out.resize(states_.size());
+    for (std::size_t i = 0; i < states_.size(); ++i) {
+      const Fx2dBenchBodyState& s = states_[i];
+      out[i] = {{s.position.x, s.position.y}, s.angle, {s.linear_velocity.x, s.linear_velocity.y}, s.angular_velocity};
+    }
+  }
+
+ private:
+  std::shared_ptr<const Plugin> plugin_;  // keeps the library that holds table_ loaded
+  const Fx2dBenchPluginV1& table_;
+  Fx2dBenchInstance* instance_ = nullptr;
+  mutable std::vector<Fx2dBenchBodyState> states_;  // read_state's buffer, sized once per build
+};
+
+}  // namespace
+
+std::shared_ptr<const Plugin> Plugin::load(const std::string& path) {
+  const std::string absolute = std::filesystem::absolute(path).lexically_normal().string();
+  if (!std::filesystem::is_regular_file(absolute)) throw InputError("plugin " + path + ": no such file");
+  void* library = dlopen(absolute.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (library == nullptr) throw InputError("plugin " + path + ": cannot load: " + dlerror());
+  const auto close_and_fail = [&](const std::string& message) {
+    dlclose(library);
+    throw InputError("plugin " + path + ": " + message);
+  };
+  void* entry = dlsym(library, FX2D_BENCH_PLUGIN_ENTRY);
+  if (entry == nullptr) close_and_fail("not an fx2d-bench plugin (no " FX2D_BENCH_PLUGIN_ENTRY " symbol)");
+  const Fx2dBenchPluginV1* table = reinterpret_cast<Fx2dBenchPluginEntry>(entry)();
+  if (table == nullptr) close_and_fail(FX2D_BENCH_PLUGIN_ENTRY " returned no table");
+  if (table->abi_version != FX2D_BENCH_PLUGIN_ABI_VERSION) {
+    close_and_fail("plugin ABI version " + std::to_string(table->abi_version) + ", this fx2d-bench reads version " +
+                   std::to_string(FX2D_BENCH_PLUGIN_ABI_VERSION) + "; rebuild the plugin from this source tree");
+  }
+  return std::shared_ptr<const Plugin>(new Plugin(library, table, absolute));
+}
+
+std::shared_ptr<const Plugin> Plugin::linked(const Fx2dBenchPluginV1& table) {
+  return std::shared_ptr<const Plugin>(new Plugin(nullptr, &table, {}));
+}
+
+Plugin::~Plugin() {
+  if (library_ != nullptr) dlclose(library_);
+}
+
+std::string Plugin::version() const {
+  std::string version = table_->library_version();
+  const std::string build = table_->build_description();
+  return build.empty() ? version : version + " " + build;
+}
+
+std::unique_ptr<Engine> make_plugin_engine(std::shared_ptr<const Plugin> plugin) {
+  return std::make_unique<PluginEngine>(std::move(plugin));
+}
+
+EngineInfo plugin_engine_info(std::shared_ptr<const Plugin> plugin, std::string name) {
+  EngineInfo info;
+  info.name = std::move(name);
+  info.version = plugin->version();
+  info.settings = fx2d_settings_description;
+  info.make = [plugin = std::move(plugin)] { return make_plugin_engine(plugin); };
+  info.solver = "fx2d";
+  return info;
+}
+
+bool is_plugin_engine_name(std::string_view name) { return name.starts_with(plugin_name_prefix); }
+
+EngineInfo plugin_engine_info(const std::string& engine_name) {
+  const std::string spec = engine_name.substr(plugin_name_prefix.size());
+  const auto bar = spec.find('|');
+  const std::string path = spec.substr(0, bar);
+  const std::string label = bar == std::string::npos ? engine_name : spec.substr(bar + 1);
+  if (path.empty() || label.empty())
+    throw InputError("engine " + engine_name + ": expected plugin:PATH or plugin:PATH|LABEL");
+  return plugin_engine_info(Plugin::load(path), label);
+}
+
+}  // namespace fxbench

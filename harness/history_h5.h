@@ -1,0 +1,57 @@
+// The nightly history file: one row per gating metric per night (layout in
+// harness/RESULTS_FORMAT.md, "The nightly history file"): a root attribute `schema` =
+// fx2d-bench.history/1 and a /history group of equal-length column datasets.
+//
+// Invariant: the file at `path` is always a complete history, the old one or the new one. An
+// append never opens the existing file for writing: it reads it, writes the old rows and the new
+// ones to `path.tmp.<pid>` beside it, fsyncs that file, renames it over `path` (atomic within one
+// file system) and fsyncs the directory, so the rename itself survives a power cut. A process
+// killed at any moment leaves at most its own `.tmp.<pid>`, which later appends ignore.
+#pragma once
+
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace fxbench {
+
+inline constexpr const char* history_schema = "fx2d-bench.history/1";
+
+struct HistoryRow {
+  std::string date_utc;   // ISO 8601, e.g. 2024-05-01T02:00:00Z: when the night's gate ran
+  std::string candidate;  // the revision judged (B)
+  std::string baseline;   // the accepted baseline it was judged against (A)
+  std::string engine;
+  std::string scene;
+  int bodies = 0;
+  std::string metric;     // ms_per_step or instructions_per_step
+  double a = 0.0;         // the baseline's median
+  double b = 0.0;         // the candidate's median
+  double ratio = 1.0;     // b / a
+  double ci_low = 1.0;
+  double ci_high = 1.0;
+  double p_value = 0.0;   // NaN for an exact row (instruction counts)
+  std::string verdict;    // the gate's
+  bool step_detected = false;
+  bool accepted = false;  // this night's candidate became the baseline
+};
+
+// Every row, oldest first. Throws InputError (one line) for a missing, non-HDF5, truncated or
+// foreign file, or a /history whose columns are missing, mistyped or of different lengths.
+std::vector<HistoryRow> read_history_h5(const std::string& path);
+
+// The moments of an append, in order, for a caller that watches it (interruption, tests):
+// "read" (the old file is read; nothing written yet), "written" (the temporary file is complete),
+// "synced" (it is on disk; next comes the rename), "renamed" (the new history is in place).
+// The hook may throw to stop the append; before "renamed" the temporary file is then removed and
+// `path` is untouched.
+using AppendStageHook = std::function<void(std::string_view stage)>;
+
+// Appends `rows` to the history at `path`, creating it when absent. Throws InputError when the
+// existing file is not a history, std::runtime_error when writing fails; either way `path` is as
+// it was.
+void append_history_h5(const std::string& path, std::span<const HistoryRow> rows, const AppendStageHook& at_stage = {});
+
+}  // namespace fxbench

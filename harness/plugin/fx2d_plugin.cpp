@@ -1,0 +1,227 @@
+// Fx2D behind the plugin C ABI (fx2d_plugin_abi.h): the one place where a flat C scene becomes an
+// FxScene. fx2d-bench links this file statically as its built-in "fx2d" engine (through the
+// internal name fx2d_bench_plugin_table) and builds it, against any revision of Fx2D, into a
+// plugin that exports only fx2d_bench_plugin_v1 (compiled with FX2D_BENCH_PLUGIN_MODULE).
+//
+// Invariant: no exception leaves a function of the table; create() turns each into its one-line
+// error. Conversions to Fx2D's floats are exactly those the harness always made, so the built-in
+// engine's trajectories (and goldens) are the same bit for bit.
+//
+// FX2D_BENCH_INJECT_SLOWDOWN (test plugin only, never the product): after each step, spin for a
+// fraction of that step's own measured time, the fraction read at create() from the environment
+// variable FX2D_BENCH_TEST_SLOWDOWN (e.g. "0.05"), so one test plugin gives every injected cost.
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fx2d/fx2d.h"
+#include "fx2d_plugin_abi.h"
+
+#ifdef FX2D_BENCH_INJECT_SLOWDOWN
+#include <chrono>
+#include <cstdlib>
+#endif
+
+#ifndef FX2D_BENCH_PLUGIN_DESCRIPTION
+#define FX2D_BENCH_PLUGIN_DESCRIPTION ""
+#endif
+
+struct Fx2dBenchInstance {
+  std::unique_ptr<fx2d::FxScene> scene;
+  std::vector<std::shared_ptr<fx2d::FxEntity>> entities;
+#ifdef FX2D_BENCH_INJECT_SLOWDOWN
+  double slowdown_fraction = 0.0;
+#endif
+};
+
+namespace {
+
+fx2d::FxVec2f to_fx(Fx2dBenchVec2 v) { return {static_cast<float>(v.x), static_cast<float>(v.y)}; }
+
+fx2d::FxShape make_shape(const Fx2dBenchBody& body) {
+  switch (body.shape) {
+    case FX2D_BENCH_CIRCLE:
+      return fx2d::FxShape::circle(static_cast<float>(body.radius));
+    case FX2D_BENCH_BOX:
+      return fx2d::FxShape::box(static_cast<float>(body.half_extents.x), static_cast<float>(body.half_extents.y));
+    case FX2D_BENCH_POLYGON: {
+      std::vector<fx2d::FxVec2f> points;
+      for (int32_t i = 0; i < body.vertex_count; ++i) points.push_back(to_fx(body.vertices[i]));
+      return fx2d::FxShape::polygon(points);
+    }
+    default:
+      throw std::invalid_argument("unknown shape kind " + std::to_string(body.shape));
+  }
+}
+
+fx2d::FxBodyType body_type(int32_t type) {
+  switch (type) {
+    case FX2D_BENCH_STATIC_BODY: return fx2d::FxBodyType::static_body;
+    case FX2D_BENCH_KINEMATIC_BODY: return fx2d::FxBodyType::kinematic;
+    case FX2D_BENCH_DYNAMIC_BODY: return fx2d::FxBodyType::dynamic;
+    default: throw std::invalid_argument("unknown body type " + std::to_string(type));
+  }
+}
+
+fx2d::FxEntityDef make_def(const Fx2dBenchBody& body) {
+  fx2d::FxEntityDef def;
+  def.type = body_type(body.type);
+  def.shape = make_shape(body);
+  def.position = to_fx(body.position);
+  def.angle = static_cast<float>(body.angle);
+  def.linear_velocity = to_fx(body.linear_velocity);
+  def.angular_velocity = static_cast<float>(body.angular_velocity);
+  def.material.density = static_cast<float>(body.density);
+  def.material.static_friction = static_cast<float>(body.static_friction);
+  def.material.dynamic_friction = static_cast<float>(body.dynamic_friction);
+  def.material.restitution = static_cast<float>(body.restitution);
+  return def;
+}
+
+const std::shared_ptr<fx2d::FxEntity>& joint_body(const Fx2dBenchInstance& instance, int32_t index) {
+  if (index < 0 || static_cast<std::size_t>(index) >= instance.entities.size())
+    throw std::invalid_argument("joint body index " + std::to_string(index) + " out of range");
+  return instance.entities[static_cast<std::size_t>(index)];
+}
+
+// A revolute joint's anchor is one world point: body A's local anchor placed at A's start pose.
+std::shared_ptr<fx2d::FxConstraint> make_joint(const Fx2dBenchInstance& instance, const Fx2dBenchJoint& joint) {
+  const auto& a = joint_body(instance, joint.body_a);
+  const auto& b = joint_body(instance, joint.body_b);
+  const fx2d::FxVec2f anchor_a = to_fx(joint.local_anchor_a);
+  if (joint.kind == FX2D_BENCH_DISTANCE_JOINT) {
+    return std::make_shared<fx2d::FxDistanceJoint>(a, b, anchor_a, to_fx(joint.local_anchor_b),
+                                                   static_cast<float>(joint.length));
+  }
+  return std::make_shared<fx2d::FxRevoluteJoint>(a, b, a->position() + rotate(a->rotation(), anchor_a));
+}
+
+std::unique_ptr<Fx2dBenchInstance> build(const Fx2dBenchScene& scene) {
+  fx2d::FxSceneSettings settings;
+  settings.gravity = to_fx(scene.gravity);
+  settings.dt = static_cast<float>(scene.dt);
+  settings.substeps = scene.fx2d.substeps;
+  settings.velocity_passes = scene.fx2d.velocity_passes;
+  settings.sleeping = scene.fx2d.sleeping != 0;
+  auto instance = std::make_unique<Fx2dBenchInstance>();
+  instance->scene = std::make_unique<fx2d::FxScene>(settings);
+  for (int32_t i = 0; i < scene.body_count; ++i)
+    instance->entities.push_back(instance->scene->create_entity(make_def(scene.bodies[i])));
+  for (int32_t i = 0; i < scene.joint_count; ++i) instance->scene->add_constraint(make_joint(*instance, scene.joints[i]));
+  return instance;
+}
+
+void copy_error(const std::string& message, char* error, size_t error_size) {
+  if (error != nullptr && error_size > 0) std::snprintf(error, error_size, "%s", message.c_str());
+}
+
+#ifdef FX2D_BENCH_INJECT_SLOWDOWN
+double slowdown_from_environment() {
+  const char* text = std::getenv("FX2D_BENCH_TEST_SLOWDOWN");
+  return text != nullptr ? std::max(0.0, std::atof(text)) : 0.0;
+}
+
+// Busy-waits, so the cost is CPU time like the step's own, for `fraction` of the step just taken.
+void step_with_injected_cost(Fx2dBenchInstance& instance) {
+  using clock = std::chrono::steady_clock;
+  const clock::time_point start = clock::now();
+  instance.scene->step();
+  const clock::time_point end = clock::now();
+  const auto until = end + std::chrono::duration_cast<clock::duration>((end - start) * instance.slowdown_fraction);
+  while (clock::now() < until) {
+  }
+}
+#endif
+
+// --- the table --------------------------------------------------------------------------------
+
+const char* library_version() {
+  static const std::string version(fx2d::fx_version());
+  return version.c_str();
+}
+
+const char* build_description() { return FX2D_BENCH_PLUGIN_DESCRIPTION; }
+
+Fx2dBenchInstance* create(const Fx2dBenchScene* scene, char* error, size_t error_size) {
+  try {
+    std::unique_ptr<Fx2dBenchInstance> instance = build(*scene);
+#ifdef FX2D_BENCH_INJECT_SLOWDOWN
+    instance->slowdown_fraction = slowdown_from_environment();
+#endif
+    return instance.release();
+  } catch (const fx2d::FxInvalidArgument& failure) {
+    copy_error(std::string("fx2d: ") + failure.what(), error, error_size);
+  } catch (const std::exception& failure) {
+    copy_error(std::string("fx2d plugin: ") + failure.what(), error, error_size);
+  } catch (...) {
+    copy_error("fx2d plugin: unknown error while building the scene", error, error_size);
+  }
+  return nullptr;
+}
+
+void destroy(Fx2dBenchInstance* instance) { delete instance; }
+
+void step(Fx2dBenchInstance* instance) {
+#ifdef FX2D_BENCH_INJECT_SLOWDOWN
+  step_with_injected_cost(*instance);
+#else
+  instance->scene->step();
+#endif
+}
+
+int32_t phase_count() { return fx2d::fx_stage_count; }
+
+const char* phase_name(int32_t phase) {
+  static const auto names = [] {
+    std::vector<std::string> all;
+    for (int i = 0; i < fx2d::fx_stage_count; ++i) all.emplace_back(fx2d::stage_name(static_cast<fx2d::FxStage>(i)));
+    return all;
+  }();
+  return phase >= 0 && phase < fx2d::fx_stage_count ? names[static_cast<std::size_t>(phase)].c_str() : "";
+}
+
+void read_phases(const Fx2dBenchInstance* instance, double* ms, int32_t count) {
+  const fx2d::FxProfile& profile = instance->scene->profile();
+  for (int32_t i = 0; i < std::min(count, phase_count()); ++i) ms[i] = profile.stage_ms[static_cast<std::size_t>(i)];
+}
+
+int32_t contact_count(const Fx2dBenchInstance* instance) { return instance->scene->contact_count(); }
+
+void read_state(const Fx2dBenchInstance* instance, Fx2dBenchBodyState* out, int32_t count) {
+  const auto bodies = std::min(static_cast<std::size_t>(std::max(count, 0)), instance->entities.size());
+  for (std::size_t i = 0; i < bodies; ++i) {
+    const fx2d::FxEntity& e = *instance->entities[i];
+    out[i].position = {e.precise_x(), e.precise_y()};
+    out[i].angle = e.angle();
+    out[i].linear_velocity = {e.linear_velocity().x, e.linear_velocity().y};
+    out[i].angular_velocity = e.angular_velocity();
+  }
+}
+
+constexpr Fx2dBenchPluginV1 plugin_table = {
+    FX2D_BENCH_PLUGIN_ABI_VERSION,
+    &library_version,
+    &build_description,
+    &create,
+    &destroy,
+    &step,
+    &phase_count,
+    &phase_name,
+    &read_phases,
+    &contact_count,
+    &read_state,
+};
+
+}  // namespace
+
+extern "C" const Fx2dBenchPluginV1* fx2d_bench_plugin_table(void) { return &plugin_table; }
+
+#ifdef FX2D_BENCH_PLUGIN_MODULE
+// The plugin's only exported symbol; everything else in the library is hidden.
+extern "C" __attribute__((visibility("default"))) const Fx2dBenchPluginV1* fx2d_bench_plugin_v1(void) {
+  return &plugin_table;
+}
+#endif

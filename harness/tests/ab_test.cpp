@@ -1,0 +1,186 @@
+// `fx2d-bench ab`: the ABBA order, the split of an A/B file back into two result sets, the
+// command end to end on prebuilt plugins (its verdict is the one `compare` gives on its file), the
+// one-line refusals, and the statistical proof of the method on this machine: the same build
+// against itself is judged "no change", and a build 5% slower per step is judged "slower", each in
+// at least 19 of 20 repetitions.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "bench_process.h"
+#include "compare.h"
+#include "engines/plugin_engine.h"
+#include "plugin_copies.h"
+#include "interleave.h"
+#include "results_h5.h"
+#include "scene_loader.h"
+
+namespace fxbench {
+namespace {
+
+namespace fs = std::filesystem;
+using bench_test::Ending;
+using bench_test::run_bench;
+
+using AbTest = test::PluginCopies;
+
+bool one_line(const std::string& text) { return !text.empty() && text.find('\n') == text.size() - 1; }
+
+TEST(AbRounds, AlternateABBA) {
+  std::string order;
+  for (int round = 0; round < 12; ++round) order += variant_of_round(round) == Variant::a ? 'A' : 'B';
+  EXPECT_EQ(order, "ABBAABBAABBA");
+}
+
+TEST(AbVariants, SplitOnlyAFileOfAAndBRunsIntoTwoResultSets) {
+  ResultSet file;
+  file.provenance.hostname = "machine";
+  file.runs.resize(2);
+  file.runs[0].engine = variant_engine_name("fx2d", Variant::a);
+  file.runs[1].engine = variant_engine_name("fx2d", Variant::b);
+  file.runs[1].repeats = 7;
+  const auto split = split_variants(file);
+  ASSERT_TRUE(split.has_value());
+  ASSERT_EQ(split->a.runs.size(), 1u);
+  ASSERT_EQ(split->b.runs.size(), 1u);
+  EXPECT_EQ(split->a.runs[0].engine, "fx2d");
+  EXPECT_EQ(split->b.runs[0].engine, "fx2d");
+  EXPECT_EQ(split->b.runs[0].repeats, 7);
+  EXPECT_EQ(split->b.provenance.hostname, "machine");
+
+  file.runs.emplace_back().engine = "box2d";  // a run file, not an A/B file
+  EXPECT_FALSE(split_variants(file).has_value());
+  file.runs.resize(1);  // A alone
+  EXPECT_FALSE(split_variants(file).has_value());
+}
+
+TEST_F(AbTest, PrebuiltPluginsGiveAFileThatCompareJudgesTheSameWay) {
+  const std::string out = (directory_ / "ab.h5").string();
+  const Ending ab = run_bench({"ab", "--a", copy_of(FX2D_BENCH_PLUGIN, "a.so"), "--b", copy_of(FX2D_BENCH_PLUGIN, "b.so"),
+                               "stacks", "--bodies", "20", "--steps", "20", "--rounds", "4", "--out", out, "--json"},
+                              directory_);
+  ASSERT_TRUE(ab.exit_code == 0 || ab.exit_code == 1 || ab.exit_code == 3) << ab.exit_code << ": " << ab.err;
+  const auto verdict = nlohmann::json::parse(ab.out);
+  EXPECT_EQ(verdict["schema"], compare_schema);
+  EXPECT_EQ(verdict["mode"], "ab");
+  ASSERT_FALSE(verdict["rows"].empty());
+  EXPECT_EQ(verdict["rows"][0]["engine"], "fx2d");
+  EXPECT_EQ(verdict["rows"][0]["physics"], "same");
+  EXPECT_EQ(verdict["rows"][0]["repeats_a"], 4);
+
+  const ResultSet file = read_results_h5(out);
+  ASSERT_EQ(file.runs.size(), 2u);
+  EXPECT_EQ(file.runs[0].engine, "fx2d@A");
+  EXPECT_EQ(file.runs[1].engine, "fx2d@B");
+  EXPECT_NE(file.runs[0].engine_version.find("a.so"), std::string::npos) << file.runs[0].engine_version;
+  EXPECT_NE(file.runs[1].engine_version.find("b.so"), std::string::npos) << file.runs[1].engine_version;
+  EXPECT_EQ(file.runs[0].engine_settings, "sleeping=true substeps=14 velocity_passes=4");  // the scene's fx2d block
+
+  const Ending compare = run_bench({"compare", out, "--json"}, directory_);
+  EXPECT_EQ(compare.exit_code, ab.exit_code) << compare.err;
+  EXPECT_EQ(nlohmann::json::parse(compare.out), verdict);
+}
+
+TEST_F(AbTest, ABuildThatCannotBeFoundIsOneLineAndExitCodeTwo) {
+  const Ending ending = run_bench({"ab", "--a", "no-such-revision-or-file", "--b", FX2D_BENCH_PLUGIN}, directory_);
+  EXPECT_EQ(ending.exit_code, 2);
+  EXPECT_TRUE(one_line(ending.err)) << ending.err;
+  EXPECT_NE(ending.err.find("--a no-such-revision-or-file: not a plugin file"), std::string::npos) << ending.err;
+}
+
+TEST_F(AbTest, ABuildThatFailsNamesTheRevisionAndItsLog) {
+  setenv("XDG_CACHE_HOME", (directory_ / "cache").c_str(), 1);
+  const Ending ending = run_bench({"ab", "--a", FX2D_BENCH_PLUGIN, "--b", "HEAD", "--b-cmake",
+                                   "-DFX2D_ARCH_BASELINE=no-such-isa"},
+                                  directory_);
+  unsetenv("XDG_CACHE_HOME");
+  EXPECT_EQ(ending.exit_code, 2);
+  // Progress lines come first; the error is the last line.
+  const std::string last = ending.err.substr(ending.err.rfind('\n', ending.err.size() - 2) + 1);
+  EXPECT_NE(last.find("fx2d-bench: --b HEAD: configuring the plugin build failed; see "), std::string::npos) << ending.err;
+  const std::string log = last.substr(last.find("see ") + 4, last.size() - last.find("see ") - 5);
+  EXPECT_TRUE(fs::exists(log)) << log;
+  EXPECT_TRUE(fs::path(log).string().starts_with((directory_ / "cache" / "fx2d-bench" / "ab").string())) << log;
+}
+
+// --- the statistical proof -----------------------------------------------------------------------
+
+// One short `ab` (in process: the same functions the command runs) and compare's step-time verdict.
+Speed judged(const EngineInfo& a, const EngineInfo& b, const SceneSpec& scene, int rounds) {
+  InterleavePlan plan;
+  plan.rounds = rounds;
+  plan.warmup_steps = scene.steps;
+  InterleavedRuns runs = measure_interleaved(scene, a, b, plan);
+  ResultSet result_a;
+  ResultSet result_b;
+  runs.a.engine = runs.b.engine = "fx2d";
+  result_a.runs.push_back(std::move(runs.a));
+  result_b.runs.push_back(std::move(runs.b));
+  const CompareReport report = compare_results(result_a, "A", result_b, "B", CompareSettings{});
+  return report.rows.at(0).speed.speed;
+}
+
+// The proofs run alone (RUN_SERIAL in CMakeLists.txt) but share the machine with whatever else
+// it runs, which is the point. The scene and length are chosen for that:
+// - settling_boxes at its 200 boxes: its steps cost nearly the same (0.2-0.3 ms) once the boxes
+//   have landed, so a step preempted in a round moves that round's median step (statistics.h)
+//   one place among close values, where the 60 steps of a 300-body pile, ten times dearer at the
+//   end than at the start, let each preempted step move the median by about 2%;
+// - 100 steps a round, so that most of them are past the landing: at 50 steps, 0 of 12 A/A runs
+//   were "no change" (load 3.6), at 100 steps 12 of 12;
+// - 60 rounds per build: the interval's half-width falls as 1/sqrt(rounds). At a load of 3, 48
+//   rounds and 60 rounds each gave A/A "no change" in 19 of 20 and 5% "slower" in 20 of 20,
+//   one of 20 A/A runs inconclusive both times: the margin is thin, so the longer of the two,
+//   one `ab` run 3.3 s and a proof 66 s at that load.
+class AbProof : public AbTest {
+ protected:
+  void SetUp() override {
+    if (FX2D_BENCH_SANITIZED) GTEST_SKIP() << "sanitizer build: instrumented timings say nothing about speed";
+    AbTest::SetUp();
+    SceneOverrides overrides;
+    overrides.steps = 100;
+    scene_ = load_scene_file(std::string(FX2D_SOURCE_DIR) + "/scenes/settling_boxes.json", overrides);
+  }
+
+  int count_of(Speed expected, const EngineInfo& a, const EngineInfo& b) const {
+    int count = 0;
+    for (int repetition = 0; repetition < repetitions; ++repetition) {
+      const auto start = std::chrono::steady_clock::now();
+      const Speed speed = judged(a, b, scene_, rounds);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      count += speed == expected ? 1 : 0;
+      std::printf("repetition %d: %s (%.1f s)\n", repetition + 1, to_string(speed).c_str(), seconds);
+    }
+    std::printf("%d of %d judged %s\n", count, repetitions, to_string(expected).c_str());
+    return count;
+  }
+
+  static constexpr int repetitions = 20;
+  static constexpr int rounds = 60;
+  SceneSpec scene_;
+};
+
+TEST_F(AbProof, TheSameBuildAgainstItselfIsNoChangeIn19Of20) {
+  const EngineInfo a = plugin_engine_info(Plugin::load(copy_of(FX2D_BENCH_PLUGIN, "a.so")), "fx2d@A");
+  const EngineInfo b = plugin_engine_info(Plugin::load(copy_of(FX2D_BENCH_PLUGIN, "b.so")), "fx2d@B");
+  EXPECT_GE(count_of(Speed::no_change, a, b), 19);
+}
+
+TEST_F(AbProof, AFivePercentSlowerBuildIsSlowerIn19Of20) {
+  setenv("FX2D_BENCH_TEST_SLOWDOWN", "0.05", 1);  // read by the slow plugin at each create()
+  const EngineInfo a = plugin_engine_info(Plugin::load(FX2D_BENCH_PLUGIN), "fx2d@A");
+  const EngineInfo b = plugin_engine_info(Plugin::load(FX2D_BENCH_SLOW_PLUGIN), "fx2d@B");
+  const int slower = count_of(Speed::slower, a, b);
+  unsetenv("FX2D_BENCH_TEST_SLOWDOWN");
+  EXPECT_GE(slower, 19);
+}
+
+}  // namespace
+}  // namespace fxbench

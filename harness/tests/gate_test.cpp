@@ -1,0 +1,297 @@
+// Tests of the nightly gate (gate_policy.h, `fx2d-bench gate`): the committed policy is valid and
+// names the gating suite; each rule at its boundary with per-scene thresholds (the two-stage time
+// rule, the exact rule of instruction counts, the accuracy tolerance); a quarantined row is
+// dropped with its reason printed; a control that moved makes the night's time verdicts
+// inconclusive but leaves exact counts gating; a bad policy is refused in one line, exit 2.
+//
+// Boundary values are chosen exactly representable in binary (1 + 2^-5 = 1.03125), so "at the
+// band edge" means exactly at it, not a rounding away from it.
+#include "gate_policy.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+#include "bench_process.h"
+
+namespace fxbench {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr double edge = 0.03125;  // 2^-5: the test policy's noise band and instructions tolerance for pile
+
+// Pile gates at +-2^-5 for time and counts; stacks is looser for time (0.25) and for accuracy
+// (50%); one ODE row is quarantined; Box2D and ODE are controls.
+const char* const test_policy = R"policy({
+  "schema": "fx2d-bench.gating/1",
+  "suite": {"engines": ["fx2d", "box2d", "ode"], "scenes": [{"scene": "pile", "bodies": 600}], "rounds": 5, "steps": 50},
+  "smoke": {"engines": ["fx2d"], "scenes": [{"scene": "pile", "bodies": 60}], "rounds": 3, "steps": 20},
+  "controls": ["box2d", "ode"],
+  "defaults": {"noise": 0.03125, "alpha": 0.05, "accuracy_tolerance": 0.05, "instructions_tolerance": 0.03125},
+  "scenes": {"stacks": {"noise": 0.25, "accuracy_tolerance": 0.5, "reason": "test: a looser scene"}},
+  "quarantine": [{"engine": "ode", "scene": "pile", "bodies": 600, "metric": "ms_per_step",
+                  "reason": "ODE's QuickStep timing swings 5% between boots (test)"}]
+})policy";
+
+json time_row(const std::string& engine, const std::string& scene, double ratio, double low, double high, double p) {
+  return {{"engine", engine}, {"against", engine}, {"scene", scene}, {"bodies", scene == "pile" ? 600 : 200},
+          {"metric", "ms_per_step"}, {"a", 1.0}, {"b", ratio}, {"ratio", ratio}, {"ci_low", low},
+          {"ci_high", high}, {"p_value", p}, {"repeats_a", 10}, {"repeats_b", 10}, {"verdict", "(compare's)"}};
+}
+
+json exact_row(const std::string& engine, double ratio) {
+  return {{"engine", engine}, {"against", engine}, {"scene", "pile"}, {"bodies", 600},
+          {"metric", "instructions_per_step"}, {"a", 1e6}, {"b", 1e6 * ratio}, {"ratio", ratio},
+          {"ci_low", ratio}, {"ci_high", ratio}, {"p_value", nullptr}, {"verdict", "(compare's)"}};
+}
+
+json comparison(std::vector<json> rows) {
+  return {{"schema", "fx2d-bench.compare/1"}, {"mode", "ab"}, {"rows", rows}, {"regressions", 0}};
+}
+
+GateReport judged(std::vector<json> rows) {
+  return judge(comparison(std::move(rows)), "test.json", parse_policy(test_policy, "policy.json"));
+}
+
+std::string only_verdict(std::vector<json> rows) {
+  const GateReport report = judged(std::move(rows));
+  EXPECT_EQ(report.rows.size(), 1u);
+  return report.rows.at(0).verdict;
+}
+
+// --- the committed policy -------------------------------------------------------------------------
+
+TEST(GatePolicy, CommittedPolicyNamesTheCanonicalScenesAtTheirMiddleSizesOnAllEngines) {
+  const Policy policy = read_policy(std::string(FX2D_SOURCE_DIR) + "/ci/gating.json");
+  ASSERT_EQ(policy.suite.scenes.size(), 3u);
+  EXPECT_EQ(policy.suite.scenes[0].scene, "pile");
+  EXPECT_EQ(policy.suite.scenes[0].bodies, 600);
+  EXPECT_EQ(policy.suite.scenes[1].scene, "stacks");
+  EXPECT_EQ(policy.suite.scenes[1].bodies, 200);
+  EXPECT_EQ(policy.suite.scenes[2].scene, "settling_boxes");
+  EXPECT_EQ(policy.suite.scenes[2].bodies, 800);
+  EXPECT_EQ(policy.suite.engines, (std::vector<std::string>{"fx2d", "box2d", "ode"}));
+  EXPECT_EQ(policy.controls, (std::vector<std::string>{"box2d", "ode"}));
+  for (const Quarantine& entry : policy.quarantine) EXPECT_FALSE(entry.reason.empty());
+}
+
+// --- the time rule --------------------------------------------------------------------------------
+
+TEST(GateTimeRule, SignificantAndWholeIntervalAboveTheBandIsSlower) {
+  EXPECT_EQ(only_verdict({time_row("fx2d", "pile", 1.05, 1.04, 1.06, 0.001)}), "slower");
+}
+
+TEST(GateTimeRule, IntervalTouchingTheBandEdgeIsInconclusiveNotSlower) {
+  EXPECT_EQ(only_verdict({time_row("fx2d", "pile", 1.05, 1.0 + edge, 1.06, 0.001)}), "inconclusive");
+}
+
+TEST(GateTimeRule, IntervalEndingExactlyAtTheBandEdgeIsNoChange) {
+  EXPECT_EQ(only_verdict({time_row("fx2d", "pile", 1.0, 1.0 - edge, 1.0 + edge, 0.5)}), "no change");
+}
+
+TEST(GateTimeRule, OutsideTheBandButNotSignificantIsInconclusive) {
+  EXPECT_EQ(only_verdict({time_row("fx2d", "pile", 1.05, 1.04, 1.06, 0.05)}), "inconclusive");
+  EXPECT_EQ(only_verdict({time_row("fx2d", "pile", 1.05, 1.04, 1.06, 0.0499)}), "slower");
+}
+
+TEST(GateTimeRule, TheSceneOwnNoiseBandApplies) {
+  // The same 5% slowdown is a regression on pile (band 3.125%) and no change on stacks (band 25%).
+  const GateReport report = judged({time_row("fx2d", "pile", 1.05, 1.04, 1.06, 0.001),
+                                    time_row("fx2d", "stacks", 1.05, 1.04, 1.06, 0.001)});
+  EXPECT_EQ(report.rows[0].verdict, "slower");
+  EXPECT_TRUE(report.rows[0].regression);
+  EXPECT_DOUBLE_EQ(report.rows[0].band, edge);
+  EXPECT_EQ(report.rows[1].verdict, "no change");
+  EXPECT_FALSE(report.rows[1].regression);
+  EXPECT_DOUBLE_EQ(report.rows[1].band, 0.25);
+  EXPECT_EQ(report.exit_code(), exit_regression);
+}
+
+TEST(GateTimeRule, FasterIsAStepButNotARegression) {
+  const GateReport report = judged({time_row("fx2d@B", "pile", 0.9, 0.88, 0.92, 0.001)});
+  EXPECT_EQ(report.rows[0].verdict, "faster");
+  EXPECT_TRUE(report.rows[0].step_detected);
+  EXPECT_EQ(report.exit_code(), exit_ok);
+}
+
+// --- the exact rule -------------------------------------------------------------------------------
+
+TEST(GateExactRule, RatioAtTheToleranceIsNoChangeAndJustBeyondIsSlowerOrFaster) {
+  EXPECT_EQ(only_verdict({exact_row("fx2d", 1.0 + edge)}), "no change");
+  EXPECT_EQ(only_verdict({exact_row("fx2d", 1.0 + edge + 1e-9)}), "slower");
+  EXPECT_EQ(only_verdict({exact_row("fx2d", 1.0 - edge)}), "no change");
+  EXPECT_EQ(only_verdict({exact_row("fx2d", 1.0 - edge - 1e-9)}), "faster");
+}
+
+TEST(GateExactRule, ExactRegressionGatesEvenOnANoisyMachine) {
+  const GateReport report = judged({time_row("box2d", "pile", 1.1, 1.08, 1.12, 0.001),
+                                    time_row("fx2d", "pile", 1.1, 1.08, 1.12, 0.001), exact_row("fx2d", 1.1)});
+  ASSERT_EQ(report.noisy_controls.size(), 1u);
+  EXPECT_EQ(report.rows[1].verdict, "inconclusive (noisy machine)");
+  EXPECT_FALSE(report.rows[1].regression);
+  EXPECT_EQ(report.rows[2].verdict, "slower");
+  EXPECT_EQ(report.exit_code(), exit_regression);
+}
+
+// --- controls -------------------------------------------------------------------------------------
+
+TEST(GateControls, ControlThatMovedMakesTheNightInconclusive) {
+  const GateReport report = judged({time_row("box2d", "pile", 1.1, 1.08, 1.12, 0.001),
+                                    time_row("fx2d", "pile", 1.1, 1.08, 1.12, 0.001)});
+  EXPECT_EQ(report.rows[0].verdict, "control changed: slower");
+  EXPECT_FALSE(report.rows[0].regression);
+  EXPECT_FALSE(report.rows[0].step_detected);
+  EXPECT_EQ(report.rows[1].verdict, "inconclusive (noisy machine)");
+  EXPECT_EQ(report.exit_code(), exit_inconclusive);
+  EXPECT_NE(report.headline().find("noisy machine"), std::string::npos);
+}
+
+TEST(GateControls, SteadyControlsLeaveTheVerdictAlone) {
+  const GateReport report = judged({time_row("box2d", "pile", 1.0, 0.99, 1.01, 0.6),
+                                    time_row("fx2d", "pile", 1.1, 1.08, 1.12, 0.001)});
+  EXPECT_EQ(report.rows[0].verdict, "control: no change");
+  EXPECT_TRUE(report.noisy_controls.empty());
+  EXPECT_EQ(report.rows[1].verdict, "slower");
+  EXPECT_EQ(report.exit_code(), exit_regression);
+}
+
+// --- accuracy -------------------------------------------------------------------------------------
+
+json with_penetration(json row, double a, double b) {
+  row["accuracy"] = {{"primary_metric", "penetration"},
+                     {"figures", {{"max_penetration", {{"a", a}, {"b", b}}}, {"max_displacement", {{"a", 3.0}, {"b", 9.0}}}}}};
+  return row;
+}
+
+TEST(GateAccuracy, PenetrationBeyondTheSceneToleranceIsARegressionAndDisplacementOfAPileIsNot) {
+  // pile: 5% of 10 mm + 0.1 mm = 0.6 mm allowed; 0.8 mm worse is a regression. The displacement
+  // tripled, but a pile must fall: displacement judges only where it is the primary metric.
+  const GateReport report = judged({with_penetration(time_row("fx2d", "pile", 1.0, 0.99, 1.01, 0.5), 0.010, 0.0108)});
+  EXPECT_EQ(report.rows[0].verdict, "no change, less accurate");
+  EXPECT_TRUE(report.rows[0].regression);
+  // stacks: 50% of 10 mm + 0.1 mm allowed, so the same change is within tolerance.
+  const GateReport looser = judged({with_penetration(time_row("fx2d", "stacks", 1.0, 0.99, 1.01, 0.5), 0.010, 0.0108)});
+  EXPECT_EQ(looser.rows[0].verdict, "no change");
+  EXPECT_FALSE(looser.rows[0].regression);
+}
+
+// --- quarantine -----------------------------------------------------------------------------------
+
+TEST(GateQuarantine, QuarantinedRowNeverGatesAndKeepsItsReason) {
+  const GateReport report = judged({time_row("ode@B", "pile", 1.5, 1.4, 1.6, 0.001)});
+  ASSERT_EQ(report.rows.size(), 1u);
+  EXPECT_TRUE(report.rows[0].quarantined);
+  EXPECT_FALSE(report.rows[0].regression);
+  EXPECT_EQ(report.rows[0].verdict, "quarantined");
+  EXPECT_EQ(report.rows[0].reason, "ODE's QuickStep timing swings 5% between boots (test)");
+  EXPECT_EQ(report.exit_code(), exit_ok);
+}
+
+TEST(GateQuarantine, QuarantineMatchesOnlyItsEngineSceneSizeAndMetric) {
+  json other_size = time_row("ode", "pile", 1.5, 1.4, 1.6, 0.001);
+  other_size["bodies"] = 300;
+  const GateReport report = judged({other_size, time_row("fx2d", "pile", 1.0, 0.99, 1.01, 0.5)});
+  EXPECT_FALSE(report.rows[0].quarantined);
+  EXPECT_EQ(report.rows[0].verdict, "control changed: slower");
+}
+
+// --- refusals -------------------------------------------------------------------------------------
+
+void expect_policy_error(const std::string& policy, const std::string& mentions) {
+  try {
+    parse_policy(policy, "bad.json");
+    ADD_FAILURE() << "accepted: " << policy;
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find(mentions), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(GatePolicyRefusals, EachBadPolicyIsNamedByItsJsonPointer) {
+  const std::string good = test_policy;
+  expect_policy_error(replaced(good, "\"noise\": 0.03125", "\"nosie\": 0.03125"), "bad.json: /defaults/nosie: unknown key");
+  expect_policy_error(replaced(good, "\"noise\": 0.25", "\"noise\": 2"), "/scenes/stacks/noise: expected a number in [0, 0.5]");
+  expect_policy_error(replaced(good, ",\n                  \"reason\": \"ODE's QuickStep timing swings 5% between boots (test)\"", ""),
+                      "/quarantine/0: missing 'reason'");
+  expect_policy_error(replaced(good, "\"rounds\": 5", "\"rounds\": 2"), "/suite/rounds: expected an integer in [3,");
+  expect_policy_error(replaced(good, "gating/1", "gating/9"), "/schema: expected \"fx2d-bench.gating/1\"");
+  expect_policy_error("{ not json", "bad.json: not valid JSON");
+}
+
+TEST(GatePolicyRefusals, CrossEngineComparisonDoesNotGate) {
+  json report = comparison({time_row("fx2d", "pile", 1.0, 0.99, 1.01, 0.5)});
+  report["mode"] = "cross-engine";
+  EXPECT_THROW(judge(report, "x.json", parse_policy(test_policy, "p.json")), InputError);
+}
+
+// --- the command line -----------------------------------------------------------------------------
+
+class GateCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    directory_ = fs::temp_directory_path() / ("fx2d_gate_test_" + std::to_string(getpid()));
+    fs::create_directories(directory_);
+    write("policy.json", test_policy);
+  }
+  void TearDown() override { fs::remove_all(directory_); }
+
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(directory_ / name) << text;
+    return (directory_ / name).string();
+  }
+  bench_test::Ending gate(std::vector<std::string> arguments) const {
+    arguments.insert(arguments.begin(), "gate");
+    return bench_test::run_bench(std::move(arguments), directory_);
+  }
+
+  fs::path directory_;
+};
+
+TEST_F(GateCommand, PrintsTheQuarantineReasonAndExitsOnTheVerdict) {
+  const std::string compare = write("compare.json", comparison({time_row("ode", "pile", 1.5, 1.4, 1.6, 0.001),
+                                                                time_row("fx2d", "pile", 1.1, 1.08, 1.12, 0.001)})
+                                                        .dump());
+  const bench_test::Ending ending = gate({compare, "--policy", (directory_ / "policy.json").string()});
+  EXPECT_EQ(ending.exit_code, 1) << ending.err;
+  EXPECT_NE(ending.out.find("ode pile 600 ms_per_step: ODE's QuickStep timing swings 5% between boots (test)"),
+            std::string::npos)
+      << ending.out;
+  EXPECT_NE(ending.out.find("slower (REGRESSION)"), std::string::npos) << ending.out;
+
+  const bench_test::Ending as_json = gate({compare, "--policy", (directory_ / "policy.json").string(), "--json"});
+  const json parsed = json::parse(as_json.out);
+  EXPECT_EQ(parsed["schema"], "fx2d-bench.gate/1");
+  EXPECT_EQ(parsed["regressions"], 1);
+  EXPECT_EQ(parsed["rows"][0]["reason"], "ODE's QuickStep timing swings 5% between boots (test)");
+}
+
+TEST_F(GateCommand, BadPolicyIsOneLineAndExitCodeTwo) {
+  const std::string compare = write("compare.json", comparison({time_row("fx2d", "pile", 1.0, 0.99, 1.01, 0.5)}).dump());
+  const std::string policy = write("bad.json", replaced(test_policy, "\"alpha\": 0.05", "\"alpha\": \"5%\""));
+  const bench_test::Ending ending = gate({compare, "--policy", policy});
+  EXPECT_EQ(ending.exit_code, 2);
+  EXPECT_EQ(std::ranges::count(ending.err, '\n'), 1) << ending.err;
+  EXPECT_NE(ending.err.find("bad.json: /defaults/alpha: expected a number"), std::string::npos) << ending.err;
+  EXPECT_TRUE(ending.out.empty()) << ending.out;
+}
+
+TEST_F(GateCommand, PrintsTheSuiteForTheNightlyScript) {
+  const bench_test::Ending ending = gate({"--policy", (directory_ / "policy.json").string(), "--print-suite", "full"});
+  EXPECT_EQ(ending.exit_code, 0) << ending.err;
+  EXPECT_EQ(ending.out, "engines fx2d,box2d,ode\nrounds 5\nsteps 50\nscene pile 600\n");
+}
+
+}  // namespace
+}  // namespace fxbench

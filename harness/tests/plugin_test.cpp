@@ -1,0 +1,171 @@
+// Engine plugins: two builds of Fx2D loaded into one process at once, each stepping exactly the
+// trajectory of the built-in engine; one exported symbol; refusals of what is not a plugin of this
+// ABI; plugin engine names; and the test plugin's injected cost.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "accuracy.h"
+#include "engines/engines.h"
+#include "engines/plugin_engine.h"
+#include "plugin_copies.h"
+#include "errors.h"
+#include "scene_loader.h"
+
+namespace fxbench {
+namespace {
+
+namespace fs = std::filesystem;
+
+SceneSpec scene_file(const std::string& path, int steps) {
+  SceneOverrides overrides;
+  overrides.steps = steps;
+  return load_scene_file(std::string(FX2D_SOURCE_DIR) + "/" + path, overrides);
+}
+
+using test::PluginCopies;
+
+std::string final_hash(const Engine& engine) {
+  std::vector<BodyState> state;
+  engine.read_state(state);
+  return state_hash(state);
+}
+
+// Steps the engines in lockstep, so that both libraries' code runs interleaved in one process.
+std::vector<std::string> hashes_after_lockstep(const std::vector<Engine*>& engines, const SceneSpec& scene) {
+  for (Engine* engine : engines) engine->build(scene);
+  for (int step = 0; step < scene.steps; ++step)
+    for (Engine* engine : engines) engine->step();
+  std::vector<std::string> hashes;
+  for (Engine* engine : engines) hashes.push_back(final_hash(*engine));
+  return hashes;
+}
+
+TEST_F(PluginCopies, TwoBuildsLoadedAtOnceStepTheBuiltInEnginesTrajectories) {
+  const auto first = Plugin::load(copy_of(FX2D_BENCH_PLUGIN, "first.so"));
+  const auto second = Plugin::load(copy_of(FX2D_BENCH_PLUGIN, "second.so"));
+  // Two libraries, two tables, two copies of Fx2D: RTLD_LOCAL kept them apart.
+  ASSERT_NE(&first->table(), &second->table());
+  ASSERT_NE(&first->table(), fx2d_bench_plugin_table());
+  // Boxes, circles, a polygon and both joint kinds cross the ABI.
+  for (const char* path : {"scenes/stacks.json", "scenes/tests/polygon_and_joint.json", "scenes/tests/joints_and_bounce.json",
+                           "scenes/stability/chain_load.json"}) {
+    const SceneSpec scene = scene_file(path, 60);
+    const auto built_in = make_fx2d_engine();
+    const auto a = make_plugin_engine(first);
+    const auto b = make_plugin_engine(second);
+    const std::vector<std::string> hashes = hashes_after_lockstep({built_in.get(), a.get(), b.get()}, scene);
+    EXPECT_EQ(hashes[1], hashes[0]) << path;
+    EXPECT_EQ(hashes[2], hashes[0]) << path;
+    EXPECT_EQ(a->phase_names(), built_in->phase_names());
+    EXPECT_EQ(a->contact_count(), built_in->contact_count()) << path;
+  }
+}
+
+// `nm -D --defined-only` of a library: the names of its exported symbols.
+std::vector<std::string> exported_symbols(const std::string& library) {
+  const std::string command = "nm -D --defined-only '" + library + "'";
+  FILE* pipe = popen(command.c_str(), "r");
+  EXPECT_NE(pipe, nullptr);
+  std::vector<std::string> names;
+  char line[1024];
+  while (pipe != nullptr && std::fgets(line, sizeof line, pipe) != nullptr) {
+    std::string text(line);
+    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+    names.push_back(text.substr(text.rfind(' ') + 1));
+  }
+  EXPECT_EQ(pipe != nullptr ? pclose(pipe) : -1, 0) << command;
+  return names;
+}
+
+TEST(PluginLibrary, ExportsOnlyItsEntryPoint) {
+  for (const char* library : {FX2D_BENCH_PLUGIN, FX2D_BENCH_SLOW_PLUGIN})
+    EXPECT_EQ(exported_symbols(library), std::vector<std::string>{FX2D_BENCH_PLUGIN_ENTRY}) << library;
+}
+
+std::string load_error(const std::string& path) {
+  try {
+    Plugin::load(path);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "loaded";
+}
+
+TEST(PluginLoader, RefusesAnotherAbiVersionInOneLine) {
+  const std::string error = load_error(FX2D_BENCH_WRONG_ABI_PLUGIN);
+  EXPECT_NE(error.find("plugin ABI version 2, this fx2d-bench reads version 1"), std::string::npos) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos);
+}
+
+TEST_F(PluginCopies, RefusesAMissingFileAndAFileThatIsNoLibrary) {
+  EXPECT_NE(load_error((directory_ / "absent.so").string()).find("no such file"), std::string::npos);
+  const fs::path text = directory_ / "text.so";
+  std::FILE* file = std::fopen(text.c_str(), "w");
+  std::fputs("not a library\n", file);
+  std::fclose(file);
+  EXPECT_NE(load_error(text.string()).find("cannot load"), std::string::npos);
+}
+
+TEST(PluginEngineNames, FindEngineLoadsAPluginOnceUnderItsLabel) {
+  const std::string name = std::string("plugin:") + FX2D_BENCH_PLUGIN + "|fx2d@X";
+  const EngineInfo* engine = find_engine(name);
+  ASSERT_NE(engine, nullptr);
+  EXPECT_EQ(engine->name, "fx2d@X");
+  EXPECT_EQ(engine->solver, "fx2d");
+  EXPECT_EQ(engine->version.rfind(find_engine("fx2d")->version, 0), 0u) << engine->version;
+  EXPECT_EQ(find_engine(name), engine);
+  const EngineInfo* unlabelled = find_engine(std::string("plugin:") + FX2D_BENCH_PLUGIN);
+  ASSERT_NE(unlabelled, nullptr);
+  EXPECT_EQ(unlabelled->name, std::string("plugin:") + FX2D_BENCH_PLUGIN);
+  EXPECT_THROW(find_engine("plugin:/no/such/plugin.so"), InputError);
+}
+
+TEST(PluginEngine, ReportsABuildFailureAsItsOneLineError) {
+  SceneSpec scene = scene_file("scenes/tests/polygon_and_joint.json", 1);
+  scene.joints.at(0).body_b = 999;
+  try {
+    make_fx2d_engine()->build(scene);
+    FAIL() << "built a joint to a body that does not exist";
+  } catch (const std::runtime_error& error) {
+    EXPECT_STREQ(error.what(), "fx2d plugin: joint body index 999 out of range");
+  }
+}
+
+// The injected cost spins until the step's own time times the fraction has passed again, so a
+// step's wall time is at least (1 + fraction) times the time Fx2D's stage timers saw inside it.
+TEST(SlowdownPlugin, EachStepTakesItsInjectedShareLonger) {
+  const SceneSpec scene = scene_file("scenes/stacks.json", 30);
+  const auto engine = make_plugin_engine(Plugin::load(FX2D_BENCH_SLOW_PLUGIN));
+  setenv("FX2D_BENCH_TEST_SLOWDOWN", "1.0", 1);  // read when the scene is built
+  engine->build(scene);
+  unsetenv("FX2D_BENCH_TEST_SLOWDOWN");
+  std::vector<double> phases(engine->phase_names().size());
+  for (int step = 0; step < scene.steps; ++step) {
+    const auto start = std::chrono::steady_clock::now();
+    engine->step();
+    const double wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    engine->read_phases(phases);
+    const double staged_ms = std::accumulate(phases.begin(), phases.end(), 0.0);
+    ASSERT_GT(staged_ms, 0.0);
+    EXPECT_GE(wall_ms, 2.0 * staged_ms) << "step " << step;
+  }
+  // Same physics: the cost is added after the step, never inside it.
+  EXPECT_EQ(final_hash(*engine), [&] {
+    const auto reference = make_fx2d_engine();
+    reference->build(scene);
+    for (int step = 0; step < scene.steps; ++step) reference->step();
+    return final_hash(*reference);
+  }());
+}
+
+}  // namespace
+}  // namespace fxbench
