@@ -20,13 +20,12 @@ set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE ONLY)
 
-# Eigen and nlohmann-json are header-only and the same on every architecture, so the host's
-# packages serve the target. Their CMake packages are found where Debian puts them, outside the
+# nlohmann-json is header-only and the same on every architecture, so the host's
+# package serves the target. Its CMake package is found where Debian puts it, outside the
 # target root. nlohmann-json's target adds the host's /usr/include to the include path; searching
 # it with -idirafter (after every directory of the target's own) keeps the host's C library
 # headers from ever shadowing the target's, and makes CMake's compiler probe count /usr/include as
 # implicit, so it drops nlohmann-json's -isystem /usr/include from the command lines.
-set(Eigen3_DIR /usr/share/eigen3/cmake CACHE PATH "Eigen3Config.cmake (header-only, from the host)")
 set(nlohmann_json_DIR /usr/share/cmake/nlohmann_json CACHE PATH "nlohmann_jsonConfig.cmake (header-only, from the host)")
 set(CMAKE_C_FLAGS_INIT "-idirafter /usr/include")
 set(CMAKE_CXX_FLAGS_INIT "-idirafter /usr/include")

@@ -160,6 +160,21 @@ void check_finite_state(const fx2d::FxScene& scene, const char* call) {
   }
 }
 
+// With FX2D_FUZZ_TRACE set, every call and step, and the state after it, go to stderr: how a reproducer
+// from crashes/ is read.
+void trace_call(const fx2d::FxScene& scene, const char* call) {
+  std::fprintf(stderr, "after %s (step %llu):\n", call, static_cast<unsigned long long>(scene.step_index()));
+  for (std::uint32_t i = 0; i < scene.entity_count(); ++i) {
+    const fx2d::FxEntity& e = *scene.entity(i);
+    std::fprintf(stderr, "  entity %u type %d mass %g p (%g, %g) angle %g v (%g, %g) w %g\n", i,
+                 static_cast<int>(e.type()), static_cast<double>(e.mass()), static_cast<double>(e.position().x),
+                 static_cast<double>(e.position().y), static_cast<double>(e.angle()),
+                 static_cast<double>(e.linear_velocity().x), static_cast<double>(e.linear_velocity().y),
+                 static_cast<double>(e.angular_velocity()));
+  }
+}
+
+
 // What the step callback does after the next step: the stream arms it, the callback disarms it,
 // so removal and creation happen inside the callback as a user's code would do them.
 struct CallbackPlan {
@@ -273,6 +288,7 @@ class Session {
     const int count = 1 + in.byte() % kMaxStepsPerCall;
     for (int i = 0; i < count && !out_of_steps(); ++i, ++steps_) {
       scene_.step();
+      if (tracing_) trace_call(scene_, "one step");
       check_finite_state(scene_, "step");
     }
   }
@@ -281,26 +297,13 @@ class Session {
   std::vector<std::shared_ptr<fx2d::FxConstraint>> constraints_;
   CallbackPlan plan_;
   int steps_ = 0;
+  const bool tracing_ = std::getenv("FX2D_FUZZ_TRACE") != nullptr;
 };
-
-// With FX2D_FUZZ_TRACE set, every call and the state after it go to stderr: how a reproducer
-// from crashes/ is read.
-void trace_call(const fx2d::FxScene& scene, const char* call) {
-  std::fprintf(stderr, "after %s (step %llu):\n", call, static_cast<unsigned long long>(scene.step_index()));
-  for (std::uint32_t i = 0; i < scene.entity_count(); ++i) {
-    const fx2d::FxEntity& e = *scene.entity(i);
-    std::fprintf(stderr, "  entity %u type %d mass %g p (%g, %g) angle %g v (%g, %g) w %g\n", i,
-                 static_cast<int>(e.type()), static_cast<double>(e.mass()), static_cast<double>(e.position().x),
-                 static_cast<double>(e.position().y), static_cast<double>(e.angle()),
-                 static_cast<double>(e.linear_velocity().x), static_cast<double>(e.linear_velocity().y),
-                 static_cast<double>(e.angular_velocity()));
-  }
-}
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const bool tracing = std::getenv("FX2D_FUZZ_TRACE") != nullptr;
+  static const bool tracing = std::getenv("FX2D_FUZZ_TRACE") != nullptr;  // see trace_call
   ByteStream in(data, size);
   Session session;
   while (!in.empty() && !session.out_of_steps()) {

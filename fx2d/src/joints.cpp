@@ -1,7 +1,6 @@
 // The constraint base and the two joints Fx2D provides, solved as soft constraints in the same
 // passes as contacts. Each joint keeps its anchors relative to the centres of mass at the step's
 // start and recovers its current error from the bodies' displacement since then, like contacts.
-#include <Eigen/Dense>
 #include <cmath>
 #include <string>
 
@@ -166,24 +165,32 @@ void FxRevoluteJoint::evaluate(FxConstraintContext& context, bool use_bias) {
   float mass_scale = 1.0f;
   float impulse_scale = 0.0f;
   if (use_bias) {
+    // Pulled together no faster than max_bias_velocity, like the distance joint and contacts: two
+    // pins that cannot both hold must not pump energy into the body they share.
     bias = context.softness.bias_rate * current_separation(bodies, separation0_, anchor_a_, anchor_b_, ra, rb);
+    const float bias_speed = length(bias);
+    if (bias_speed > context.max_bias_velocity) bias *= context.max_bias_velocity / bias_speed;
     mass_scale = context.softness.mass_scale;
     impulse_scale = context.softness.impulse_scale;
   }
-  // The point constraint's 2x2 effective-mass matrix K = J M^-1 J^T.
+  // The point constraint's 2x2 effective-mass matrix K = J M^-1 J^T = m I + ia u u^T + ib v v^T,
+  // with m = ma + mb, u and v the anchors turned a quarter. Its determinant is taken in the form
+  // m^2 + m (ia |u|^2 + ib |v|^2) + ia ib (u x v)^2, a sum of non-negative terms: the textbook
+  // k00 k11 - k01^2 cancels catastrophically for a pin far from a light body, and a determinant
+  // made of rounding noise inverts into impulses that feed energy in.
   const float ma = bodies.inv_mass_a, mb = bodies.inv_mass_b, ia = bodies.inv_inertia_a, ib = bodies.inv_inertia_b;
-  Eigen::Matrix2f k;
-  k(0, 0) = ma + mb + ra.y * ra.y * ia + rb.y * rb.y * ib;
-  k(0, 1) = -ra.y * ra.x * ia - rb.y * rb.x * ib;
-  k(1, 0) = k(0, 1);
-  k(1, 1) = ma + mb + ra.x * ra.x * ia + rb.x * rb.x * ib;
-  // Singular K (both ends immovable, or the pin on a line through both centres with no mass to
-  // move along it) or one that overflowed: no finite impulse exists, so this pass does nothing.
-  const float determinant = k.determinant();
+  const float m = ma + mb;
+  const float k00 = m + ra.y * ra.y * ia + rb.y * rb.y * ib;
+  const float k01 = -ra.y * ra.x * ia - rb.y * rb.x * ib;
+  const float k11 = m + ra.x * ra.x * ia + rb.x * rb.x * ib;
+  const float anchors_cross = cross(ra, rb);
+  const float determinant = m * m + m * (ia * length_squared(ra) + ib * length_squared(rb)) + ia * ib * anchors_cross * anchors_cross;
+  // No finite impulse exists when K is singular or overflowed: this pass leaves the bodies alone.
   if (!(determinant > 0.0f && std::isfinite(determinant))) return;
   const FxVec2f cdot = relative_velocity(bodies, ra, rb) + bias;
-  const Eigen::Vector2f solved = k.inverse() * Eigen::Vector2f(cdot.x, cdot.y);
-  const FxVec2f impulse = FxVec2f{-mass_scale * solved.x(), -mass_scale * solved.y()} - impulse_scale * impulse_;
+  const float inv_determinant = 1.0f / determinant;
+  const FxVec2f solved = {inv_determinant * (k11 * cdot.x - k01 * cdot.y), inv_determinant * (k00 * cdot.y - k01 * cdot.x)};
+  const FxVec2f impulse = -mass_scale * solved - impulse_scale * impulse_;
   impulse_ += impulse;
   apply(bodies, ra, rb, impulse);
 }
