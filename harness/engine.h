@@ -8,6 +8,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -51,6 +52,8 @@ struct EngineInfo {
   // Makes a fresh, unbuilt instance. A function object, so a plugin's entry can hold its library.
   std::function<std::unique_ptr<Engine>()> make;
   std::string solver;     // the scene's /solver/<solver> block it reads: "fx2d" for an Fx2D plugin
+  // The most bodies build() accepts; commands refuse a larger scene before measuring anything.
+  std::size_t max_bodies = std::numeric_limits<std::size_t>::max();
 };
 
 // Every engine the harness knows, in a fixed order.

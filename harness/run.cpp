@@ -123,6 +123,18 @@ std::string lookup_name(const EngineOptions& options, const EngineInfo& engine) 
   return engine.name;
 }
 
+// An engine that cannot build a scene would fail only after the engines before it were measured.
+void check_engine_capacity(const std::vector<SceneSpec>& scenes, const std::vector<const EngineInfo*>& engines) {
+  for (const SceneSpec& scene : scenes) {
+    for (const EngineInfo* engine : engines) {
+      if (scene.bodies.size() > engine->max_bodies) {
+        throw InputError("scene " + scene.name + ": " + std::to_string(scene.bodies.size()) + " bodies; engine " +
+                         engine->name + " takes at most " + std::to_string(engine->max_bodies));
+      }
+    }
+  }
+}
+
 void run_command(const RunOptions& options, const std::string& command_line) {
   check_out_path(options);
   // instruction_counter.h: refuses before anything is measured when valgrind cannot run.
@@ -132,6 +144,7 @@ void run_command(const RunOptions& options, const std::string& command_line) {
   const std::vector<SceneSpec> scenes = options.scenes.load();
   check_sample_budget(scenes, options);
   const std::vector<const EngineInfo*> engines = options.engines.selected();
+  check_engine_capacity(scenes, engines);
 
   ResultSet results;
   results.provenance = collect_provenance(command_line, measure_counter_ghz());

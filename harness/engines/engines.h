@@ -3,6 +3,7 @@
 // except tests of one adapter.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 
 #include "engine.h"
@@ -12,6 +13,10 @@ namespace fxbench {
 std::unique_ptr<Engine> make_fx2d_engine();
 std::unique_ptr<Engine> make_box2d_engine();
 std::unique_ptr<Engine> make_ode_engine();
+
+// The hash space's n x n bit table is 512 MiB at this size, cleared every step (engines/ode.cpp):
+// the largest scene worth waiting for, and half the size at which ODE itself aborts.
+inline constexpr std::size_t ode_max_bodies = 65'536;
 
 // How far ODE's bodies have left the plane z = 0, the largest over all bodies. ODE simulates in
 // 3D and the adapter holds it to 2D with plane-2D joints plus a flattening pass after each step;

@@ -53,9 +53,7 @@ constexpr dReal box_depth = 1.0;  // metres; the 2D density becomes kg/m^3 over 
 constexpr int max_contacts_per_pair = 4;
 // Box2D's b2_velocityThreshold: slower impacts are inelastic, so restitution acts alike in both.
 constexpr dReal bounce_threshold = 1.0;  // m/s
-// The hash space's n x n bit table is 512 MiB here, cleared every step (see above): the largest
-// scene worth waiting for, and half the size at which ODE itself aborts.
-constexpr std::size_t max_bodies = 65'536;
+constexpr std::size_t max_bodies = ode_max_bodies;
 
 void ensure_ode_ready_on_this_thread() {
   static const int initialised = dInitODE2(0);

@@ -23,7 +23,7 @@ std::span<const EngineInfo> engine_registry() {
       {"ode", FX2D_BENCH_ODE_VERSION,
        "dWorldQuickStep with ode.iterations, ode.erp, ode.cfm, auto-disable per ode.auto_disable; plane-2D joints, "
        "1 m deep boxes, circles as spheres, friction pyramid",
-       &make_ode_engine, "ode"},
+       &make_ode_engine, "ode", ode_max_bodies},
   };
   return engines;
 }
