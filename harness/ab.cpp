@@ -107,7 +107,7 @@ ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
   if (!options.out.empty()) write_results_h5(results, options.out, options.force);
 
   const std::optional<VariantResults> variants = split_variants(results);
-  const CompareReport report = compare_results(variants->a, "A", variants->b, "B", CompareSettings{});
+  const CompareReport report = compare_variants(*variants, CompareSettings{});
   return print_compare_report(report, {.json = options.json, .markdown = options.markdown});
 }
 

@@ -3,8 +3,6 @@
 #include "ab_builds.h"
 
 #include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,10 +17,9 @@
 #include <thread>
 #include <vector>
 
+#include "child_process.h"
 #include "errors.h"
 #include "hash.h"
-
-extern char** environ;
 
 namespace fxbench {
 namespace {
@@ -37,21 +34,7 @@ constexpr const char* worktree_word = "worktree";
 // Runs argv (argv[0] looked up on PATH) with stdout and stderr sent to the file descriptors given.
 // Returns true when it exited with status 0.
 bool run_process(const std::vector<std::string>& argv, int stdout_fd, int stderr_fd) {
-  std::vector<char*> args;
-  for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
-  args.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, stdout_fd, STDOUT_FILENO);
-  posix_spawn_file_actions_adddup2(&actions, stderr_fd, STDERR_FILENO);
-  pid_t child = 0;
-  const int spawned = posix_spawnp(&child, args[0], &actions, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0) return false;
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0) {
-  }
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  return run_child(argv, {.in = -1, .out = stdout_fd, .err = stderr_fd}).exit_status == 0;
 }
 
 // The command's stdout, trimmed; nullopt when it fails. Its stderr is discarded.

@@ -89,6 +89,7 @@ struct RunPair {
   std::string primary_metric;
   std::optional<bool> same_physics;  // A/B only
   bool with_phases = false;          // phases are named alike only within one engine
+  bool rounds_paired = false;        // repeat k of A and of B ran back to back (one `ab`)
 };
 
 // Step i of A and B did the same work when both runs stepped one deterministic trajectory.
@@ -121,7 +122,10 @@ std::optional<CompareRow> speed_row(const RunPair& pair, const MetricSamples& a,
   CompareRow row = row_for(pair, a.name);
   row.a = median(repeats_a);
   row.b = median(repeats_b);
-  row.estimate = bootstrap_median_ratio(repeats_a, repeats_b);
+  // An interrupted `ab` may leave one side a round ahead: its rounds no longer pair one to one.
+  row.rounds_paired = pair.rounds_paired && repeats_a.size() == repeats_b.size();
+  row.estimate = row.rounds_paired ? bootstrap_paired_median_ratio(repeats_a, repeats_b)
+                                   : bootstrap_median_ratio(repeats_a, repeats_b);
   const bool paired = steps_correspond(pair);
   row.test = paired ? paired_log_ratio_test(column_medians(a.values, steps_a), column_medians(b.values, steps_b))
                     : mann_whitney_u(repeats_a, repeats_b);
@@ -211,6 +215,37 @@ void warn_on_provenance(const Provenance& a, const Provenance& b, const std::str
     if (a.*field != b.*field)
       warnings.push_back(pair_label + " differ in " + name + " (\"" + a.*field + "\" vs \"" + b.*field +
                          "\"); pass --force to compare without this warning");
+}
+
+// A/B, by both commands: `rounds_paired` when A and B are the two builds of one `ab` file.
+CompareReport compare_ab(const ResultSet& a, const std::string& a_label, const ResultSet& b, const std::string& b_label,
+                         const CompareSettings& settings, bool rounds_paired) {
+  const std::string pair_label = a_label + " and " + b_label;
+  CompareReport report{.cross_engine = false, .settings = settings, .rows = {}, .warnings = {}};
+  if (!settings.force) warn_on_provenance(a.provenance, b.provenance, pair_label, report.warnings);
+  const std::map<RunKey, const RunRecord*> runs_a = runs_by_key(a, a_label);
+  const std::map<RunKey, const RunRecord*> runs_b = runs_by_key(b, b_label);
+  int one_sided_counts = 0;
+  for (const RunRecord& run_a : a.runs) {
+    const auto match = runs_b.find(RunKey{run_a.engine, run_a.scene, run_a.bodies});
+    if (match == runs_b.end()) {
+      report.warnings.push_back(describe(run_a) + " is only in " + a_label);
+      continue;
+    }
+    const RunRecord& run_b = *match->second;
+    if (run_a.scene_hash != run_b.scene_hash && !settings.force)
+      throw InputError(pair_label + ": " + describe(run_a) + " is a different scene in each (scene hash " +
+                       run_a.scene_hash + " vs " + run_b.scene_hash + "); pass --force to compare them anyway");
+    const RunPair pair{run_a, run_b, primary_metric_of(a, run_a), same_physics(run_a, run_b), true, rounds_paired};
+    one_sided_counts += counted_on_one_side(pair) ? 1 : 0;
+    append_rows(pair, settings, report.rows);
+  }
+  warn_on_one_sided_counts(one_sided_counts, pair_label, report.warnings);
+  for (const auto& [key, run_b] : runs_b)
+    if (!runs_a.contains(key)) report.warnings.push_back(describe(*run_b) + " is only in " + b_label);
+  if (report.rows.empty())
+    throw InputError(pair_label + ": no engine, scene and size measured in both; nothing to compare");
+  return report;
 }
 
 // --- verdict counts -------------------------------------------------------------------------------
@@ -324,8 +359,12 @@ std::string method_note(const CompareReport& report) {
       counted ? " instructions_per_step: exact counts of the step loop under callgrind; a change counts beyond +-" +
                     formatted("%g%%", 100.0 * settings.instructions_tolerance) + "."
               : "";
-  return "a, b: median over repeats of each repeat's median step; B/A: their ratio, with a 95% percentile bootstrap "
-         "interval (" +
+  const bool paired = std::ranges::any_of(report.rows, &CompareRow::rounds_paired);
+  const std::string estimator =
+      paired ? "B/A: the median of the ratios b/a of A's and B's rounds run back to back, with a 95% percentile "
+               "bootstrap interval resampling those pairs of rounds ("
+             : "B/A: their ratio, with a 95% percentile bootstrap interval resampling A's and B's repeats independently (";
+  return "a, b: median over repeats of each repeat's median step; " + estimator +
          std::to_string(bootstrap_resamples) + " resamples, fixed seed); a change counts when p < " +
          formatted("%g", settings.rules.alpha) + " and the interval clears the noise band +-" +
          formatted("%g%%", 100.0 * settings.rules.noise) + ". Accuracy tolerance " +
@@ -459,32 +498,11 @@ std::string CompareReport::headline() const {
 
 CompareReport compare_results(const ResultSet& a, const std::string& a_label, const ResultSet& b,
                               const std::string& b_label, const CompareSettings& settings) {
-  const std::string pair_label = a_label + " and " + b_label;
-  CompareReport report{.cross_engine = false, .settings = settings, .rows = {}, .warnings = {}};
-  if (!settings.force) warn_on_provenance(a.provenance, b.provenance, pair_label, report.warnings);
-  const std::map<RunKey, const RunRecord*> runs_a = runs_by_key(a, a_label);
-  const std::map<RunKey, const RunRecord*> runs_b = runs_by_key(b, b_label);
-  int one_sided_counts = 0;
-  for (const RunRecord& run_a : a.runs) {
-    const auto match = runs_b.find(RunKey{run_a.engine, run_a.scene, run_a.bodies});
-    if (match == runs_b.end()) {
-      report.warnings.push_back(describe(run_a) + " is only in " + a_label);
-      continue;
-    }
-    const RunRecord& run_b = *match->second;
-    if (run_a.scene_hash != run_b.scene_hash && !settings.force)
-      throw InputError(pair_label + ": " + describe(run_a) + " is a different scene in each (scene hash " +
-                       run_a.scene_hash + " vs " + run_b.scene_hash + "); pass --force to compare them anyway");
-    const RunPair pair{run_a, run_b, primary_metric_of(a, run_a), same_physics(run_a, run_b), true};
-    one_sided_counts += counted_on_one_side(pair) ? 1 : 0;
-    append_rows(pair, settings, report.rows);
-  }
-  warn_on_one_sided_counts(one_sided_counts, pair_label, report.warnings);
-  for (const auto& [key, run_b] : runs_b)
-    if (!runs_a.contains(key)) report.warnings.push_back(describe(*run_b) + " is only in " + b_label);
-  if (report.rows.empty())
-    throw InputError(pair_label + ": no engine, scene and size measured in both; nothing to compare");
-  return report;
+  return compare_ab(a, a_label, b, b_label, settings, false);
+}
+
+CompareReport compare_variants(const VariantResults& variants, const CompareSettings& settings) {
+  return compare_ab(variants.a, "A", variants.b, "B", settings, true);
 }
 
 CompareReport compare_engines(const ResultSet& results, const std::string& label, const std::string& baseline,
@@ -516,7 +534,7 @@ CompareReport compare_engines(const ResultSet& results, const std::string& label
 CompareReport compare_files(const std::string& a_path, const std::optional<std::string>& b_path,
                             const std::string& baseline, const CompareSettings& settings) {
   const ResultSet a = read_results_h5(a_path);
-  if (const auto ab = split_variants(a); ab && !b_path) return compare_results(ab->a, "A", ab->b, "B", settings);
+  if (const auto ab = split_variants(a); ab && !b_path) return compare_variants(*ab, settings);
   if (!b_path) return compare_engines(a, a_path, baseline, settings);
   return compare_results(a, a_path, read_results_h5(*b_path), *b_path, settings);
 }

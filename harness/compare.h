@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "errors.h"
+#include "interleave.h"
 #include "results.h"
 #include "statistics.h"
 
@@ -61,6 +62,7 @@ struct CompareRow {
   RatioEstimate estimate;         // for instructions, the exact ratio: ci.low = ci.high = ratio
   std::optional<RankTest> test;   // empty for instructions: an exact figure has nothing to test
   std::string test_name; // wilcoxon-signed-rank-paired, mann-whitney-u, or exact
+  bool rounds_paired = false;  // estimate by bootstrap_paired_median_ratio: the rounds of one `ab`
   int repeats_a = 0;     // for instructions, 1: one counted loop
   int repeats_b = 0;
   SpeedVerdict speed;
@@ -88,6 +90,11 @@ struct CompareReport {
 // compare.
 CompareReport compare_results(const ResultSet& a, const std::string& a_label, const ResultSet& b,
                               const std::string& b_label, const CompareSettings& settings);
+
+// The two builds of one `fx2d-bench ab` file (split_variants), labelled A and B: as
+// compare_results, except that A's round k and B's round k ran back to back, so where both runs
+// have the same number of rounds the intervals resample the rounds as pairs (statistics.h).
+CompareReport compare_variants(const VariantResults& variants, const CompareSettings& settings);
 
 // Cross-engine: on each scene, with an empty `baseline` Fx2D against every other engine (B = fx2d),
 // otherwise every other engine against `baseline` (A = baseline). Throws InputError when no

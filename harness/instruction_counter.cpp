@@ -3,8 +3,6 @@
 #include "instruction_counter.h"
 
 #include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -16,10 +14,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "child_process.h"
 #include "errors.h"
 #include "interrupt.h"
-
-extern char** environ;
 
 namespace fxbench {
 namespace {
@@ -47,36 +44,20 @@ class TemporaryDirectory {
   fs::path path_;
 };
 
-struct ChildEnding {
-  bool started = false;  // false: the program was not found or could not be executed
-  int exit_code = -1;
-  int signal = 0;        // the signal that ended it, or 0
-};
-
 // Runs `arguments` (the program looked up on PATH), stdin from /dev/null, stdout and stderr both
 // to `log`, and waits for it.
-ChildEnding run_child(std::vector<std::string> arguments, const fs::path& log) {
-  std::vector<char*> argv;
-  for (std::string& argument : arguments) argv.push_back(argument.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t files;
-  posix_spawn_file_actions_init(&files);
-  posix_spawn_file_actions_addopen(&files, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-  posix_spawn_file_actions_adddup2(&files, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = -1;
-  const int failed = posix_spawnp(&pid, argv[0], &files, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&files);
-  ChildEnding ending;
-  if (failed != 0) return ending;
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  ending.started = !(WIFEXITED(status) && WEXITSTATUS(status) == 127);  // 127: the shell's "cannot execute"
-  if (WIFEXITED(status)) ending.exit_code = WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) ending.signal = WTERMSIG(status);
+ChildEnding run_logged_child(const std::vector<std::string>& arguments, const fs::path& log) {
+  const int null = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+  const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+  ChildEnding ending{.spawn_error = errno, .exit_status = -1, .signal = 0};
+  if (null >= 0 && out >= 0) ending = run_child(arguments, {.in = null, .out = out, .err = out});
+  if (null >= 0) ::close(null);
+  if (out >= 0) ::close(out);
   return ending;
 }
+
+// Started, as valgrind means it: 127 is the shell's "cannot execute".
+bool started(const ChildEnding& ending) { return ending.started() && ending.exit_status != 127; }
 
 std::string file_text(const fs::path& path) {
   std::ifstream file(path, std::ios::binary);
@@ -94,9 +75,9 @@ std::string last_line(const std::string& text) {
 
 std::string installed_valgrind_version(const fs::path& directory) {
   const fs::path log = directory / "version.txt";
-  const ChildEnding ending = run_child({"valgrind", "--version"}, log);
+  const ChildEnding ending = run_logged_child({"valgrind", "--version"}, log);
   const std::string version = last_line(file_text(log));
-  if (!ending.started || ending.exit_code != 0 || !version.starts_with("valgrind-"))
+  if (!started(ending) || ending.exit_status != 0 || !version.starts_with("valgrind-"))
     throw InputError("--counter instructions: valgrind is not installed (no working 'valgrind' on PATH); "
                      "install it, e.g. apt-get install valgrind");
   return version;
@@ -154,20 +135,20 @@ std::optional<InstructionCount> InstructionCounter::count(const SceneSpec& scene
   const fs::path callgrind_out = directory.path() / "callgrind.out";
   const fs::path log = directory.path() / "child.log";
   const ChildEnding ending =
-      run_child({"valgrind", "--tool=callgrind", "--quiet", "--collect-atstart=no", "--dump-line=no",
+      run_logged_child({"valgrind", "--tool=callgrind", "--quiet", "--collect-atstart=no", "--dump-line=no",
                  "--callgrind-out-file=" + callgrind_out.string(), bench_executable_, "count-instructions", "--engine",
                  engine_name, scene_file.string(), "--scene-hash", scene.hash},
                 log);
   if (ending.signal != 0 && interrupt_requested()) return std::nullopt;  // interrupt.h: Ctrl-C reached the child too
   const std::string what = "counting instructions of " + engine_name + " on " + scene.name;
-  if (!ending.started) throw std::runtime_error(what + ": cannot start valgrind");
-  if (ending.exit_code != 0) {
+  if (!started(ending)) throw std::runtime_error(what + ": cannot start valgrind");
+  if (ending.exit_status != 0) {
     // The child's own one-line message, "fx2d-bench: ...", says what it refused.
     const std::string reason = last_line(file_text(log));
-    if (ending.exit_code == exit_bad_input) throw InputError(what + ": " + reason);
+    if (ending.exit_status == exit_bad_input) throw InputError(what + ": " + reason);
     throw std::runtime_error(what + ": the child " +
                              (ending.signal != 0 ? "ended by signal " + std::to_string(ending.signal)
-                                                 : "exited with " + std::to_string(ending.exit_code)) +
+                                                 : "exited with " + std::to_string(ending.exit_status)) +
                              (reason.empty() ? std::string() : ": " + reason));
   }
   std::ifstream output(callgrind_out);

@@ -10,8 +10,7 @@
 // renamed into place, and --force replaces only an empty directory or a previous report (one
 // holding index.html), never any other directory a typo may name.
 #include <hdf5.h>
-#include <spawn.h>
-#include <sys/wait.h>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -26,14 +25,13 @@
 #include <string_view>
 #include <vector>
 
+#include "child_process.h"
 #include "commands.h"
 #include "compare.h"
 #include "errors.h"
 #include "file_integrity.h"
 #include "h5_types.h"
 #include "results_h5.h"
-
-extern char** environ;
 
 namespace fxbench {
 namespace {
@@ -154,23 +152,16 @@ struct Finished {
 // Runs argv[0] with the given arguments, stdout inherited, stderr collected.
 Finished run_collecting_stderr(const std::vector<std::string>& arguments) {
   int pipe_ends[2];
-  if (pipe(pipe_ends) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addclose(&actions, pipe_ends[0]);
-  posix_spawn_file_actions_adddup2(&actions, pipe_ends[1], STDERR_FILENO);
-  posix_spawn_file_actions_addclose(&actions, pipe_ends[1]);
-  std::vector<char*> argv;
-  for (const std::string& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
-  argv.push_back(nullptr);
-  pid_t child = -1;
-  const int spawned = posix_spawn(&child, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
+  // Close-on-exec, so the child holds only its stderr's copy of the write end, and the read below
+  // ends when the child does.
+  if (pipe2(pipe_ends, O_CLOEXEC) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  int spawn_error = 0;
+  const pid_t child = spawn_child(arguments, {.in = -1, .out = -1, .err = pipe_ends[1]}, spawn_error);
   close(pipe_ends[1]);
   Finished finished;
-  if (spawned != 0) {
+  if (child < 0) {
     close(pipe_ends[0]);
-    throw InputError(std::string(argv[0]) + ": cannot run (" + std::strerror(spawned) + "); install Debian's " +
+    throw InputError(arguments[0] + ": cannot run (" + std::strerror(spawn_error) + "); install Debian's " +
                      debian_packages);
   }
   char buffer[4096];
@@ -179,10 +170,7 @@ Finished run_collecting_stderr(const std::vector<std::string>& arguments) {
     else if (errno != EINTR) break;
   }
   close(pipe_ends[0]);
-  int status = 0;
-  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
-  }
-  finished.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  finished.status = wait_for_child(child).exit_status;
   return finished;
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -93,6 +94,19 @@ std::optional<int> repeats_to_decide(const RatioEstimate& estimate, const RankTe
   return std::max({static_cast<int>(needed), repeats + 1, rules.min_repeats});
 }
 
+// The machinery both bootstraps share: `resampled_statistic` draws one resample from the engine
+// and returns its statistic; this calls it bootstrap_resamples times from the fixed seed and
+// returns the central confidence_level of the statistics. engine() % n, which the statistics use
+// to pick an index, is biased by at most n / 2^64, far below anything a few thousand resamples see.
+Interval percentile_bootstrap(const std::function<double(std::mt19937_64&)>& resampled_statistic) {
+  std::mt19937_64 engine(bootstrap_seed);
+  std::vector<double> statistics(bootstrap_resamples);
+  for (double& statistic : statistics) statistic = resampled_statistic(engine);
+  std::ranges::sort(statistics);
+  const auto tail = static_cast<std::size_t>(std::lround(bootstrap_resamples * (1.0 - confidence_level) / 2.0));
+  return {statistics[tail], statistics[statistics.size() - 1 - tail]};
+}
+
 }  // namespace
 
 double median(std::span<const double> sample) {
@@ -131,24 +145,30 @@ std::vector<double> column_medians(std::span<const double> matrix, std::size_t c
 }
 
 RatioEstimate bootstrap_median_ratio(std::span<const double> a, std::span<const double> b) {
-  std::mt19937_64 engine(bootstrap_seed);
   std::vector<double> scratch(std::max(a.size(), b.size()));
-  // engine() % n is biased by at most n / 2^64, far below anything a few thousand resamples see.
-  const auto resampled_median = [&](std::span<const double> sample) {
+  const auto resampled_median = [&](std::mt19937_64& engine, std::span<const double> sample) {
     const std::span<double> resample(scratch.data(), sample.size());
     for (double& value : resample) value = sample[engine() % sample.size()];
     return median_in_place(resample);
   };
-  std::vector<double> ratios(bootstrap_resamples);
-  for (double& ratio : ratios) {
+  const Interval interval = percentile_bootstrap([&](std::mt19937_64& engine) {
     // Two statements, so that A is always drawn before B: the order of evaluation of a / b's
     // operands is unspecified, and the draws must not depend on the compiler.
-    const double a_median = resampled_median(a);
-    ratio = resampled_median(b) / a_median;
-  }
-  std::ranges::sort(ratios);
-  const auto tail = static_cast<std::size_t>(std::lround(bootstrap_resamples * (1.0 - confidence_level) / 2.0));
-  return {median(b) / median(a), {ratios[tail], ratios[ratios.size() - 1 - tail]}};
+    const double a_median = resampled_median(engine, a);
+    return resampled_median(engine, b) / a_median;
+  });
+  return {median(b) / median(a), interval};
+}
+
+RatioEstimate bootstrap_paired_median_ratio(std::span<const double> a, std::span<const double> b) {
+  std::vector<double> pair_ratios(a.size());
+  for (std::size_t k = 0; k < a.size(); ++k) pair_ratios[k] = b[k] / a[k];
+  std::vector<double> scratch(pair_ratios.size());
+  const Interval interval = percentile_bootstrap([&](std::mt19937_64& engine) {
+    for (double& value : scratch) value = pair_ratios[engine() % pair_ratios.size()];
+    return median_in_place(scratch);
+  });
+  return {median(pair_ratios), interval};
 }
 
 RankTest mann_whitney_u(std::span<const double> a, std::span<const double> b) {

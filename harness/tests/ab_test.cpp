@@ -112,18 +112,18 @@ TEST_F(AbTest, ABuildThatFailsNamesTheRevisionAndItsLog) {
 
 // --- the statistical proof -----------------------------------------------------------------------
 
-// One short `ab` (in process: the same functions the command runs) and compare's step-time verdict.
+// One short `ab` (in process: the same functions the command runs) and compare's step-time verdict,
+// its rounds paired as the command pairs them.
 Speed judged(const EngineInfo& a, const EngineInfo& b, const SceneSpec& scene, int rounds) {
   InterleavePlan plan;
   plan.rounds = rounds;
   plan.warmup_steps = scene.steps;
   InterleavedRuns runs = measure_interleaved(scene, a, b, plan);
-  ResultSet result_a;
-  ResultSet result_b;
+  VariantResults variants;
   runs.a.engine = runs.b.engine = "fx2d";
-  result_a.runs.push_back(std::move(runs.a));
-  result_b.runs.push_back(std::move(runs.b));
-  const CompareReport report = compare_results(result_a, "A", result_b, "B", CompareSettings{});
+  variants.a.runs.push_back(std::move(runs.a));
+  variants.b.runs.push_back(std::move(runs.b));
+  const CompareReport report = compare_variants(variants, CompareSettings{});
   return report.rows.at(0).speed.speed;
 }
 
@@ -136,9 +136,10 @@ Speed judged(const EngineInfo& a, const EngineInfo& b, const SceneSpec& scene, i
 // - 100 steps a round, so that most of them are past the landing: at 50 steps, 0 of 12 A/A runs
 //   were "no change" (load 3.6), at 100 steps 12 of 12;
 // - 60 rounds per build: the interval's half-width falls as 1/sqrt(rounds). At a load of 3, 48
-//   rounds and 60 rounds each gave A/A "no change" in 19 of 20 and 5% "slower" in 20 of 20,
-//   one of 20 A/A runs inconclusive both times: the margin is thin, so the longer of the two,
-//   one `ab` run 3.3 s and a proof 66 s at that load.
+//   rounds and 60 rounds each gave A/A "no change" in 19 of 20 and 5% "slower" in 20 of 20 with
+//   the rounds resampled independently, one of 20 A/A runs inconclusive both times. Resampled as
+//   pairs (statistics.h), 60 rounds gave 20 of 20 and 20 of 20 at loads of 1 (twice) and 3; one
+//   `ab` run takes 3 s at load 1 and 4.3 s at load 3, a proof 60 s and 90 s.
 class AbProof : public AbTest {
  protected:
   void SetUp() override {

@@ -246,6 +246,40 @@ TEST_F(CompareFiles, ChangedStateHashIsChangedPhysicsAndUnpaired) {
   EXPECT_EQ(row.test_name, "mann-whitney-u");
 }
 
+// The two builds of one `ab` run as its file holds them (fx2d@A, fx2d@B): round r of both ran at
+// the machine's speed of the moment, a factor spread over +-15% across 30 rounds, and B costs 5%
+// more. Pairs of rounds cancel that drift; two independent files could not, so the same figures
+// judged as two `run`s are inconclusive.
+TEST_F(CompareFiles, AnAbFileResamplesItsRoundsAsPairsAndFindsAShiftTheDriftHides) {
+  constexpr int rounds = 30;
+  RunRecord a = synthetic_run("fx2d@A", "pile", 1.0, 0, rounds);
+  RunRecord b = synthetic_run("fx2d@B", "pile", 1.05, 0, rounds);
+  b.state_hashes = a.state_hashes;
+  b.final_state_hash = a.final_state_hash;
+  for (int r = 0; r < rounds; ++r) {
+    const double drift = 1.0 + 0.15 * ((r * 7) % rounds - 14.5) / 14.5;
+    for (RunRecord* run : {&a, &b})
+      for (int s = 0; s < steps; ++s) run->wall_ms[static_cast<std::size_t>(r * steps + s)] *= drift;
+  }
+  const CompareReport paired = compare_files(write(results_of({a, b}), "ab.h5"), std::nullopt, "", {});
+  const CompareRow& row = paired.rows.at(0);
+  ASSERT_EQ(row.metric, "ms_per_step");
+  EXPECT_TRUE(row.rounds_paired);
+  EXPECT_NEAR(row.estimate.ratio, 1.05, 1e-9);  // every pair's ratio is exactly 1.05
+  EXPECT_NEAR(row.estimate.ci.low, 1.05, 1e-9);
+  EXPECT_NEAR(row.estimate.ci.high, 1.05, 1e-9);
+  EXPECT_EQ(row.speed.speed, Speed::slower);
+  EXPECT_NE(compare_table(paired).find("resampling those pairs of rounds"), std::string::npos);
+
+  const std::optional<VariantResults> split = split_variants(results_of({a, b}));
+  ASSERT_TRUE(split.has_value());
+  const CompareReport unpaired = compare_results(split->a, "a.h5", split->b, "b.h5", {});
+  EXPECT_FALSE(unpaired.rows.at(0).rounds_paired);
+  EXPECT_LT(unpaired.rows.at(0).estimate.ci.low, 1.02);
+  EXPECT_EQ(unpaired.rows.at(0).speed.speed, Speed::inconclusive);
+  EXPECT_NE(compare_table(unpaired).find("resampling A's and B's repeats independently"), std::string::npos);
+}
+
 TEST_F(CompareFiles, DifferentMachineOrCompilerWarnsUnlessForced) {
   ResultSet candidate = results_of({synthetic_run("fx2d", "pile", 1.0, 5)});
   candidate.provenance.cpu_model = "Other CPU";

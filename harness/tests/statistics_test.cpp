@@ -1,6 +1,7 @@
 // Tests of compare's statistics on synthetic samples with known answers: medians, the bootstrap
-// interval (its bounds, its determinism, a known shift found), the rank tests against examples
-// worked by hand, and the two-stage verdict at each of its boundaries.
+// interval (its bounds, its determinism, a known shift found, paired rounds against independent
+// ones), the rank tests against examples worked by hand, and the two-stage verdict at each of its
+// boundaries.
 #include "statistics.h"
 
 #include <gtest/gtest.h>
@@ -108,6 +109,73 @@ TEST(Bootstrap, IntervalLiesWithinTheExtremeRatiosOfTheSamples) {
   EXPECT_GE(estimate.ci.low, *std::ranges::min_element(b) / *std::ranges::max_element(a));
   EXPECT_LE(estimate.ci.high, *std::ranges::max_element(b) / *std::ranges::min_element(a));
   EXPECT_LE(estimate.ci.low, estimate.ci.high);
+}
+
+// Rounds of an `ab` run on a drifting machine: round k of both builds runs at the machine's speed
+// of the moment, drift(k) spread over +-15% in a scrambled order, and B costs exactly `ratio`
+// times A apart from a per-pair jitter of at most +-0.2%.
+struct DriftingRounds {
+  std::vector<double> a;
+  std::vector<double> b;
+};
+
+DriftingRounds drifting_rounds(double ratio, int n) {
+  const std::vector<double> drift = noisy(1.0, 0.15, n);
+  const std::vector<double> jitter = noisy(1.0, 0.002, n);
+  DriftingRounds rounds;
+  for (int k = 0; k < n; ++k) {
+    rounds.a.push_back(drift[k]);
+    rounds.b.push_back(drift[k] * ratio * jitter[(k + 3) % n]);
+  }
+  return rounds;
+}
+
+TEST(PairedBootstrap, CommonDriftPerRoundCancelsInPairsButWidensTheUnpairedInterval) {
+  const DriftingRounds rounds = drifting_rounds(1.05, 30);
+  const RatioEstimate paired = bootstrap_paired_median_ratio(rounds.a, rounds.b);
+  // Every pair's ratio lies in 1.05 * [0.998, 1.002], so its median and every resampled median do.
+  EXPECT_GE(paired.ratio, 1.05 * 0.998);
+  EXPECT_LE(paired.ratio, 1.05 * 1.002);
+  EXPECT_GE(paired.ci.low, 1.05 * 0.998);
+  EXPECT_LE(paired.ci.high, 1.05 * 1.002);
+  EXPECT_LE(paired.ci.low, paired.ratio);
+  EXPECT_GE(paired.ci.high, paired.ratio);
+  EXPECT_LT(paired.ci.low, paired.ci.high);  // the jitter leaves a real interval
+  // Resampled independently, the drift lands in each side's median: the interval is wide enough
+  // to hold both edges of the 2% band around the same true ratio, so it cannot decide.
+  const RatioEstimate unpaired = bootstrap_median_ratio(rounds.a, rounds.b);
+  EXPECT_LT(unpaired.ci.low, 1.05 - 0.02);
+  EXPECT_GT(unpaired.ci.high, 1.05 + 0.02);
+  EXPECT_GT(unpaired.ci.high - unpaired.ci.low, 10.0 * (paired.ci.high - paired.ci.low));
+  const RankTest test{0.0, 4.0, 1e-4};
+  EXPECT_EQ(decide_speed(paired, test, 30, {}).speed, Speed::slower);
+  EXPECT_EQ(decide_speed(unpaired, test, 30, {}).speed, Speed::inconclusive);
+}
+
+TEST(PairedBootstrap, TheSameBuildTwiceIsNoChangeAndExactlyOneWithoutJitter) {
+  const std::vector<double> drift = noisy(1.0, 0.15, 30);
+  const RatioEstimate same = bootstrap_paired_median_ratio(drift, drift);
+  EXPECT_EQ(same.ratio, 1.0);
+  EXPECT_EQ(same.ci.low, 1.0);
+  EXPECT_EQ(same.ci.high, 1.0);
+  const DriftingRounds rounds = drifting_rounds(1.0, 30);
+  EXPECT_EQ(decide_speed(bootstrap_paired_median_ratio(rounds.a, rounds.b), {0.0, 0.5, 0.6}, 30, {}).speed,
+            Speed::no_change);
+}
+
+TEST(PairedBootstrap, RatioIsTheMedianOfPerPairRatiosAndTheIntervalIsDeterministic) {
+  // Per-pair ratios 1.5, 0.5, 2.0, 1.0, 1.2: their median is 1.2, while median(b) / median(a) = 1.
+  const std::vector<double> a = {2.0, 4.0, 1.0, 3.0, 5.0};
+  const std::vector<double> b = {3.0, 2.0, 2.0, 3.0, 6.0};
+  const RatioEstimate first = bootstrap_paired_median_ratio(a, b);
+  EXPECT_DOUBLE_EQ(first.ratio, 1.2);
+  EXPECT_GE(first.ci.low, 0.5);
+  EXPECT_LE(first.ci.high, 2.0);
+  EXPECT_LT(first.ci.low, first.ratio);
+  EXPECT_GT(first.ci.high, first.ratio);
+  const RatioEstimate second = bootstrap_paired_median_ratio(a, b);
+  EXPECT_EQ(first.ci.low, second.ci.low);
+  EXPECT_EQ(first.ci.high, second.ci.high);
 }
 
 TEST(MannWhitney, MatchesAWorkedExampleWithTies) {
