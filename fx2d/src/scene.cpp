@@ -56,8 +56,11 @@ FxVec2f clamped_acceleration(FxVec2f acceleration, float bound) {
 }  // namespace
 
 void validate_settings(const FxSceneSettings& s) {
+  constexpr float max_damping_ratio = 1000.0f;  // far past critical (1); beyond it only overflow
   require(is_finite(s.gravity), "gravity", "finite components");
-  require(std::isfinite(s.dt) && s.dt > 0.0f, "dt", "a finite number > 0");
+  // Bounded, not only finite: a finite dt of 1e38 s or a damping ratio of 1e38 overflows the
+  // soft-constraint coefficients (make_softness) into inf * 0.
+  require(std::isfinite(s.dt) && s.dt > 0.0f && s.dt <= 1.0f, "dt", "a number in (0, 1] seconds");
   require(s.substeps >= 1, "substeps", "an integer >= 1");
   require(s.velocity_passes >= 1, "velocity_passes", "an integer >= 1");
   require(s.relax_passes >= 1, "relax_passes", "an integer >= 1");
@@ -67,9 +70,11 @@ void validate_settings(const FxSceneSettings& s) {
   require(std::isfinite(s.angular_sleep_speed) && s.angular_sleep_speed >= 0.0f, "angular_sleep_speed", "a finite number >= 0");
   require(std::isfinite(s.restitution_threshold) && s.restitution_threshold >= 0.0f, "restitution_threshold", "a finite number >= 0");
   require(std::isfinite(s.contact_hertz) && s.contact_hertz > 0.0f, "contact_hertz", "a finite number > 0");
-  require(std::isfinite(s.contact_damping_ratio) && s.contact_damping_ratio > 0.0f, "contact_damping_ratio", "a finite number > 0");
+  require(s.contact_damping_ratio > 0.0f && s.contact_damping_ratio <= max_damping_ratio, "contact_damping_ratio",
+          "a number in (0, 1000]");
   require(std::isfinite(s.joint_hertz) && s.joint_hertz > 0.0f, "joint_hertz", "a finite number > 0");
-  require(std::isfinite(s.joint_damping_ratio) && s.joint_damping_ratio > 0.0f, "joint_damping_ratio", "a finite number > 0");
+  require(s.joint_damping_ratio > 0.0f && s.joint_damping_ratio <= max_damping_ratio, "joint_damping_ratio",
+          "a number in (0, 1000]");
   require(std::isfinite(s.max_push_speed) && s.max_push_speed > 0.0f, "max_push_speed", "a finite number > 0");
   require(std::isfinite(s.linear_slop) && s.linear_slop >= 0.0f, "linear_slop", "a finite number >= 0");
   require(std::isfinite(s.max_linear_speed) && s.max_linear_speed > 0.0f, "max_linear_speed", "a finite number > 0");

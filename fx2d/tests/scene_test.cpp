@@ -102,6 +102,17 @@ TEST(Validation, SceneSettingsNameTheBadField) {
   s = {};
   s.gravity.y = std::numeric_limits<float>::quiet_NaN();
   EXPECT_NE(error_of([&] { FxScene scene(s); }).find("gravity"), std::string::npos);
+  // Found by the engine fuzzer: finite but huge values overflowed the soft-constraint
+  // coefficients into inf * 0 = NaN on the first step.
+  s = {};
+  s.contact_damping_ratio = 3.0e38f;
+  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("contact_damping_ratio"), std::string::npos);
+  s = {};
+  s.joint_damping_ratio = 1.0e30f;
+  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("joint_damping_ratio"), std::string::npos);
+  s = {};
+  s.dt = 1.0e30f;
+  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("dt"), std::string::npos);
 }
 
 TEST(Validation, EntityDefinitionsNameTheBadField) {

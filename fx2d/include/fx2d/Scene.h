@@ -23,7 +23,7 @@ namespace fx2d {
 
 struct FxSceneSettings {
   FxVec2f gravity{0.0f, -10.0f};       // m/s^2
-  float dt = 1.0f / 60.0f;             // seconds per step, > 0
+  float dt = 1.0f / 60.0f;             // seconds per step, in (0, 1]
   int substeps = 14;                   // >= 1
   int velocity_passes = 4;             // >= 1, soft passes per substep that also push overlaps apart
   // >= 1, passes per substep that remove the push velocity again once positions have moved. One
@@ -37,9 +37,9 @@ struct FxSceneSettings {
   float angular_sleep_speed = 0.05f;   // rad/s below which a body counts as resting
   float restitution_threshold = 1.0f;  // m/s: slower impacts do not bounce
   float contact_hertz = 120.0f;        // contact stiffness; capped at a quarter of the substep rate
-  float contact_damping_ratio = 10.0f; // dimensionless, > 0
+  float contact_damping_ratio = 10.0f; // dimensionless, in (0, 1000]
   float joint_hertz = 60.0f;           // joint stiffness, capped likewise
-  float joint_damping_ratio = 2.0f;
+  float joint_damping_ratio = 2.0f;    // dimensionless, in (0, 1000]
   float max_push_speed = 3.0f;         // m/s: the fastest an overlap is pushed apart
   float linear_slop = 0.005f;          // metres of overlap the position projection tolerates
   float max_linear_speed = 400.0f;     // m/s: velocities are clamped, so no input can overflow
