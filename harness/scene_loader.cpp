@@ -893,7 +893,7 @@ SceneSpec read_scene(const ErrorReporter& errors, Json& document) {
   scene.text("description", "");
   spec.size = scene.integer("size", 0, Range{0.0, kMaxBodies});
   spec.steps = scene.integer("steps", spec.steps, Range{0.0, kMaxCount});
-  spec.dt = scene.number("dt", spec.dt, Range{0.0, 1.0, true});
+  spec.dt = scene.number("dt", spec.dt, Range{1.0e-6, 1.0});  // Fx2D's own bounds (FxSceneSettings::dt)
   spec.gravity = scene.vec2("gravity", spec.gravity, kSigned);
   spec.primary_metric = kMetricValues[scene.choice("primary_metric", "penetration", kMetrics)];
   read_bounds(scene, spec);

@@ -58,9 +58,9 @@ FxVec2f clamped_acceleration(FxVec2f acceleration, float bound) {
 void validate_settings(const FxSceneSettings& s) {
   constexpr float max_damping_ratio = 1000.0f;  // far past critical (1); beyond it only overflow
   require(is_finite(s.gravity), "gravity", "finite components");
-  // Bounded, not only finite: a finite dt of 1e38 s or a damping ratio of 1e38 overflows the
-  // soft-constraint coefficients (make_softness) into inf * 0.
-  require(std::isfinite(s.dt) && s.dt > 0.0f && s.dt <= 1.0f, "dt", "a number in (0, 1] seconds");
+  // Bounded, not only finite: a dt of 1e38 s or a damping ratio of 1e38 overflows the soft-constraint
+  // coefficients (make_softness) into inf * 0, and a dt of 1e-40 s underflows the substep to 0.
+  require(s.dt >= 1.0e-6f && s.dt <= 1.0f, "dt", "a number in [1e-6, 1] seconds");
   require(s.substeps >= 1, "substeps", "an integer >= 1");
   require(s.velocity_passes >= 1, "velocity_passes", "an integer >= 1");
   require(s.relax_passes >= 1, "relax_passes", "an integer >= 1");

@@ -113,6 +113,9 @@ TEST(Validation, SceneSettingsNameTheBadField) {
   s = {};
   s.dt = 1.0e30f;
   EXPECT_NE(error_of([&] { FxScene scene(s); }).find("dt"), std::string::npos);
+  s = {};
+  s.dt = 1.0e-40f;  // positive, but the substep dt / substeps would underflow to 0
+  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("dt"), std::string::npos);
 }
 
 TEST(Validation, EntityDefinitionsNameTheBadField) {

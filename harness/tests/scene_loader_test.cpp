@@ -590,7 +590,7 @@ TEST(Errors, OutOfRangeValuesAreRefused) {
   EXPECT_EQ(load_error(scene_with(R"("size": -3)")), "t.json:1:36: /size: expected an integer >= 0, got -3");
   EXPECT_EQ(load_error(scene_with(R"("size": 2000000)")),
             "t.json:1:36: /size: expected an integer <= 1000000, got 2000000");
-  EXPECT_EQ(load_error(scene_with(R"("dt": 0)")), "t.json:1:34: /dt: expected a number > 0, got 0");
+  EXPECT_EQ(load_error(scene_with(R"("dt": 0)")), "t.json:1:34: /dt: expected a number >= 1e-06, got 0");
   EXPECT_EQ(load_error(scene_with(R"("material": {"restitution": 1.5})")),
             "t.json:1:56: /material/restitution: expected a number from 0 to 1, got 1.5");
   EXPECT_EQ(load_error(scene_with(R"("bodies": [{"shape": {"circle": 1}, "position": [0, 1e300]}])")),
@@ -652,7 +652,7 @@ TEST(Errors, ValueFromSetIsReportedAgainstTheSet) {
   EXPECT_EQ(error_of([] {
               load_scene_file(scene_path("pile.json"), sets({{"/dt", "-1"}}));
             }),
-            "--set /dt=-1: /dt: expected a number > 0, got -1");
+            "--set /dt=-1: /dt: expected a number >= 1e-06, got -1");
   SceneOverrides bodies;
   bodies.bodies = -1;
   EXPECT_EQ(error_of([&] { load_scene_file(scene_path("pile.json"), bodies); }),
@@ -749,7 +749,7 @@ TEST(Errors, LocationSkipsEarlierElementsOfNestedArrays) {
 
 TEST(Errors, DuplicateKeyIsLocatedAtItsLastOccurrenceLikeItsValue) {
   EXPECT_EQ(load_error("{\"schema\": \"fx2d.scene/1\", \"dt\": 0.1,\n\"dt\": -1}"),
-            "t.json:2:7: /dt: expected a number > 0, got -1");
+            "t.json:2:7: /dt: expected a number >= 1e-06, got -1");
 }
 
 TEST(Errors, InvertedBoundsAreRefused) {

@@ -23,7 +23,7 @@ namespace fx2d {
 
 struct FxSceneSettings {
   FxVec2f gravity{0.0f, -10.0f};       // m/s^2
-  float dt = 1.0f / 60.0f;             // seconds per step, in (0, 1]
+  float dt = 1.0f / 60.0f;             // seconds per step, in [1e-6, 1]
   int substeps = 14;                   // >= 1
   int velocity_passes = 4;             // >= 1, soft passes per substep that also push overlaps apart
   // >= 1, passes per substep that remove the push velocity again once positions have moved. One
