@@ -54,6 +54,16 @@ FxVec2f start_anchor(FxConstraintContext& context, const FxEntity& entity, FxVec
   return rotate(context.start_rotation(entity), local_anchor - context.local_center(entity));
 }
 
+// The largest impulse a joint may accumulate: what stops its anchors closing at the fastest speeds
+// the bodies may have (K >= ma + mb in every direction, so no rigid solve needs more). Redundant
+// joints, such as two pins between one pair of bodies, otherwise trade impulse between themselves
+// without limit; once the lever arms turn, that internal impulse becomes real torque and grows
+// geometrically from substep to substep.
+float max_joint_impulse(const FxConstraintContext& context, const JointBodies& bodies, FxVec2f anchor_a, FxVec2f anchor_b) {
+  const float anchor_speed = 2.0f * context.max_linear_speed + context.max_angular_speed * (length(anchor_a) + length(anchor_b));
+  return anchor_speed / (bodies.inv_mass_a + bodies.inv_mass_b);
+}
+
 FxVec2f world_point(const FxEntity& entity, FxVec2f local_point) {
   return entity.position() + rotate(entity.rotation(), local_point);
 }
@@ -128,7 +138,10 @@ void FxDistanceJoint::evaluate(FxConstraintContext& context, bool use_bias) {
     impulse_scale = context.softness.impulse_scale;
   }
   const float cdot = dot(relative_velocity(bodies, ra, rb), axis);
-  const float impulse = -(mass_scale / k) * (cdot + bias) - impulse_scale * impulse_;
+  float impulse = -(mass_scale / k) * (cdot + bias) - impulse_scale * impulse_;
+  const float max_impulse = max_joint_impulse(context, bodies, ra, rb);
+  const float total = impulse_ + impulse;
+  if (std::fabs(total) > max_impulse) impulse = std::copysign(max_impulse, total) - impulse_;
   impulse_ += impulse;
   apply(bodies, ra, rb, impulse * axis);
 }
@@ -190,7 +203,11 @@ void FxRevoluteJoint::evaluate(FxConstraintContext& context, bool use_bias) {
   const FxVec2f cdot = relative_velocity(bodies, ra, rb) + bias;
   const float inv_determinant = 1.0f / determinant;
   const FxVec2f solved = {inv_determinant * (k11 * cdot.x - k01 * cdot.y), inv_determinant * (k00 * cdot.y - k01 * cdot.x)};
-  const FxVec2f impulse = -mass_scale * solved - impulse_scale * impulse_;
+  FxVec2f impulse = -mass_scale * solved - impulse_scale * impulse_;
+  const float max_impulse = max_joint_impulse(context, bodies, ra, rb);
+  const FxVec2f total = impulse_ + impulse;
+  const float total_length = length(total);
+  if (total_length > max_impulse) impulse = (max_impulse / total_length) * total - impulse_;
   impulse_ += impulse;
   apply(bodies, ra, rb, impulse);
 }

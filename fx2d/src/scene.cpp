@@ -206,6 +206,8 @@ void World::solve_substeps() {
   context.inv_substep_dt = params.inv_substep_dt;
   context.softness = make_softness(capped_hertz(settings.joint_hertz, h), settings.joint_damping_ratio, h);
   context.max_bias_velocity = settings.max_push_speed;
+  context.max_linear_speed = settings.max_linear_speed;
+  context.max_angular_speed = max_angular_speed(settings);
   const bool has_constraints = !constraints.empty();
   if (has_constraints) {
     FX2D_TIME_STAGE(profile, FxStage::constraints);
@@ -249,8 +251,12 @@ void World::solve_substeps() {
     for (int pass = 0; pass < settings.velocity_passes; ++pass) velocity_pass(true);
     {
       FX2D_TIME_STAGE(profile, FxStage::integration);
+      // Clamped again here and at the step's end: the passes can push a body squeezed between
+      // immovable bodies, or held by joints that fight, past the limits the integration kept.
       for (const std::uint32_t i : awake_bodies) {
         FxBodyState& state = states[i];
+        state.linear_velocity = limited_speed(state.linear_velocity, max_speed);
+        state.angular_velocity = limited_spin(state.angular_velocity, max_spin);
         state.delta_position += h * state.linear_velocity;
         state.delta_rotation = integrate_rotation(state.delta_rotation, h * state.angular_velocity);
       }
@@ -287,6 +293,7 @@ void World::finalize_bodies() {
     sim.rotation = end;
     sim.linear_velocity = state.linear_velocity;
     sim.angular_velocity = state.angular_velocity;
+    clamp_velocity(settings, sim);
     sim.force = {};
 
     const bool resting = length_squared(sim.linear_velocity) < settings.linear_sleep_speed * settings.linear_sleep_speed &&
