@@ -82,9 +82,8 @@ void validate_settings(const FxSceneSettings& s) {
 
 World::World(const FxSceneSettings& s) : settings(s) { validate_settings(settings); }
 
-FxVec2f limited_speed(FxVec2f v, float max_speed) {
+FxVec2f slowed_to(FxVec2f v, float max_speed) {
   const float speed_squared = length_squared(v);
-  if (speed_squared <= max_speed * max_speed) return v;
   if (std::isfinite(speed_squared)) return v * (max_speed / std::sqrt(speed_squared));
   // Overflowed, or not a number: keep the direction of the largest components, or the infinite
   // components' signs alone; a NaN component counts as zero.
@@ -94,8 +93,6 @@ FxVec2f limited_speed(FxVec2f v, float max_speed) {
   const float largest = std::max(std::fabs(v.x), std::fabs(v.y));
   return largest > 0.0f ? max_speed * normalize((1.0f / largest) * v) : FxVec2f{};
 }
-
-float limited_spin(float w, float max_spin) { return std::isnan(w) ? 0.0f : std::clamp(w, -max_spin, max_spin); }
 
 void clamp_velocity(const FxSceneSettings& settings, BodySim& sim) {
   sim.linear_velocity = limited_speed(sim.linear_velocity, settings.max_linear_speed);
