@@ -1,9 +1,9 @@
 // Dynamic AABB tree: the broad phase's spatial index.
 //
 // Leaves hold enlarged ("fat") boxes, so a proxy whose tight box still fits inside its fat box
-// need not move in the tree. Insertion picks the sibling that minimises the surface-area
-// heuristic (the perimeter increase over the whole path, in 2D), and the tree is kept shallow by
-// rotations on the way back up. Nodes live in one array with a free list and are addressed by
+// need not move in the tree. Insertion descends greedily towards the sibling of least
+// surface-area-heuristic cost (the perimeter increase over the whole path, in 2D), and the tree
+// is kept shallow by rotations on the way back up. Nodes live in one array with a free list and are addressed by
 // index; after warm-up no operation allocates. All choices are made in a fixed order, so the same
 // sequence of operations builds the same tree.
 #pragma once
@@ -71,12 +71,6 @@ class AabbTree {
     bool is_leaf() const { return child1 == null_node; }
   };
 
-  // A node still to visit in the sibling search, with the perimeter growth of its ancestors.
-  struct Candidate {
-    int node = null_node;
-    float inherited_cost = 0.0f;
-  };
-
   int allocate_node();
   void free_node(int id);
   int find_best_sibling(const FxAABB& box) const;
@@ -91,7 +85,6 @@ class AabbTree {
   int free_list_ = null_node;
   int proxy_count_ = 0;
   mutable std::vector<int> stack_;
-  mutable std::vector<Candidate> search_stack_;
 };
 
 }  // namespace fx2d::detail

@@ -38,6 +38,16 @@ bool World::jointed(std::uint32_t a, std::uint32_t b) const {
   return std::binary_search(jointed_pairs.begin(), jointed_pairs.end(), pair_key(a, b));
 }
 
+void World::create_contact(std::uint32_t a, std::uint32_t b) {
+  const int id = contacts.create(a, b, records[a].contact_head, records[b].contact_head);
+  CachedContact& contact = contacts.slots[id];
+  const FxMaterial& ma = records[a].material;
+  const FxMaterial& mb = records[b].material;
+  contact.static_friction = std::sqrt(ma.static_friction * mb.static_friction);
+  contact.dynamic_friction = std::sqrt(ma.dynamic_friction * mb.dynamic_friction);
+  contact.restitution = ma.restitution > mb.restitution ? ma.restitution : mb.restitution;
+}
+
 void World::update_broad_phase() {
   if (jointed_pairs_dirty) rebuild_jointed_pairs();
   moved_bodies.clear();
@@ -48,7 +58,8 @@ void World::update_broad_phase() {
     moved_bodies.push_back(i);
   }
 
-  // A pair of moved bodies is found from both sides; only the lower index creates it.
+  // A pair of moved bodies is found from both sides; only the lower index records it.
+  new_pairs.clear();
   for (const std::uint32_t i : moved_bodies) {
     tree.query(tree.fat_box(records[i].proxy), [&](int proxy) {
       const std::uint32_t j = body_of_proxy[proxy];
@@ -58,15 +69,18 @@ void World::update_broad_phase() {
       const std::uint32_t a = i < j ? i : j;
       const std::uint32_t b = i < j ? j : i;
       if (contacts.has_pair(records[a].contact_head, b) || jointed(a, b)) return true;
-      const int id = contacts.create(a, b, records[a].contact_head, records[b].contact_head);
-      CachedContact& contact = contacts.slots[id];
-      const FxMaterial& ma = records[a].material;
-      const FxMaterial& mb = records[b].material;
-      contact.static_friction = std::sqrt(ma.static_friction * mb.static_friction);
-      contact.dynamic_friction = std::sqrt(ma.dynamic_friction * mb.dynamic_friction);
-      contact.restitution = ma.restitution > mb.restitution ? ma.restitution : mb.restitution;
+      new_pairs.push_back(std::uint64_t{i} << 32 | j);
       return true;
     });
+  }
+  // Contacts are created, and so solved, in the order of the moved body's index, then the other
+  // body's, not in the order the tree happens to list them: the physics does not depend on how the
+  // tree is built. (moved_bodies is ascending, so this sorts only within each body's finds.)
+  std::sort(new_pairs.begin(), new_pairs.end());
+  for (const std::uint64_t found : new_pairs) {
+    const auto i = static_cast<std::uint32_t>(found >> 32);
+    const auto j = static_cast<std::uint32_t>(found);
+    create_contact(i < j ? i : j, i < j ? j : i);
   }
   for (const std::uint32_t i : moved_bodies) records[i].moved = false;
 }

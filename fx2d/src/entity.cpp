@@ -114,6 +114,7 @@ void World::reserve_scratch() {
   movable.reserve(n + 1);
   body_of_proxy.reserve(2 * n);
   moved_bodies.reserve(n);
+  new_pairs.reserve(4 * n);
   awake_bodies.reserve(n);
   integrating.reserve(n);
   island_parent.reserve(n);

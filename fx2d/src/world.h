@@ -98,6 +98,7 @@ class World final {
   // Step stages, in order.
   void update_broad_phase();
   void rebuild_jointed_pairs();
+  void create_contact(std::uint32_t a, std::uint32_t b);
   bool jointed(std::uint32_t a, std::uint32_t b) const;
   void update_contacts();
   void prepare_solver();
@@ -136,6 +137,7 @@ class World final {
 
   // Scratch reused every step, so a step allocates nothing once these have grown.
   std::vector<std::uint32_t> moved_bodies;
+  std::vector<std::uint64_t> new_pairs;  // (moved body << 32 | other body) of each pair found this step
   std::vector<std::uint32_t> awake_bodies;
   std::vector<VelocityIntegration> integrating;  // the awake dynamic bodies
   std::vector<int> island_parent;
