@@ -118,12 +118,16 @@ class TableAppender {
 void write_table_file_h5(const std::string& path, std::span<const std::pair<std::string, std::string>> root_attributes,
                          std::span<const H5Table> tables) {
   const SilentHdf5Errors quiet;
-  H5Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  // Room for the seal (file_integrity.h), written once the file is closed.
+  const H5Handle creation(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+  H5Pset_userblock(creation.get(), h5_seal_bytes);
+  H5Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, creation.get(), H5P_DEFAULT), H5Fclose);
   if (!file.valid()) throw std::runtime_error(path + ": cannot create; is its directory there and writable?");
   const TableAppender appender(file.get(), path);
   for (const auto& [name, value] : root_attributes) appender.root_attribute(name, value);
   for (const H5Table& table : tables) appender.append(table);
   if (!file.close()) throw std::runtime_error(path + ": could not write the file to disk");
+  seal_h5_file(path);
 }
 
 void write_results_with_tables_h5(const ResultSet& results, std::span<const H5Table> tables, const std::string& path,

@@ -39,8 +39,9 @@ void write_results_with_tables_h5(const ResultSet& results, std::span<const H5Ta
                                   bool overwrite);
 
 // A file of tables alone (the nightly history, history_h5.h): created or truncated at `path`,
-// string attributes on its root, then every table in order. Not renamed into place: the caller
-// writes a temporary name and makes the replacement atomic. Throws std::runtime_error.
+// string attributes on its root, then every table in order, then sealed (file_integrity.h) as a
+// result file is. Not renamed into place: the caller writes a temporary name and makes the
+// replacement atomic. Throws std::runtime_error.
 void write_table_file_h5(const std::string& path, std::span<const std::pair<std::string, std::string>> root_attributes,
                          std::span<const H5Table> tables);
 

@@ -1,6 +1,8 @@
 // Tests of the nightly history (history_h5.h, `fx2d-bench history`): rows round-trip through the
 // file; `history append` records the gate's verdicts, detected steps and the accepted flag; a
-// foreign file is refused in one line; and the file survives a crash during an append.
+// foreign file is refused in one line; the file is sealed (file_integrity.h), a damaged one is
+// refused before libhdf5 reads it, and an unsealed one from an older fx2d-bench is still read; and
+// the file survives a crash during an append.
 //
 // Crash safety is tested on the real binary in a child process. The append stops itself (SIGSTOP)
 // at a chosen stage when FX2D_HISTORY_TEST_STOP_AT names it ("read", "written", "synced",
@@ -26,6 +28,7 @@
 
 #include "bench_process.h"
 #include "errors.h"
+#include "file_integrity.h"
 
 namespace fxbench {
 namespace {
@@ -107,6 +110,17 @@ class HistoryTest : public ::testing::Test {
 
   std::string history() const { return (directory_ / "history.h5").string(); }
 
+  std::string bytes_of(const std::string& path) const {
+    std::ifstream file(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(file), {}};
+  }
+
+  std::string write_bytes(const std::string& name, const std::string& bytes) const {
+    const std::string path = (directory_ / name).string();
+    std::ofstream(path, std::ios::binary) << bytes;
+    return path;
+  }
+
   std::string compare_file(int pairs) const {
     const fs::path path = directory_ / ("compare_" + std::to_string(pairs) + ".json");
     if (!fs::exists(path)) std::ofstream(path) << comparison(pairs).dump();
@@ -178,6 +192,78 @@ TEST_F(HistoryTest, ForeignAndBrokenFilesAreRefusedInOneLine) {
   EXPECT_THROW(append_history_h5((directory_ / "text.h5").string(), std::vector<HistoryRow>{sample_row(0)}), InputError);
   std::ifstream kept(directory_ / "text.h5");
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(kept), {}), "not a history");
+}
+
+// --- the seal -------------------------------------------------------------------------------------
+
+// The message of the InputError read_history_h5(path) throws, or "" if it reads the file.
+std::string read_error(const std::string& path) {
+  try {
+    read_history_h5(path);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST_F(HistoryTest, AppendWritesASealedHistoryThatReadsBack) {
+  const std::vector<HistoryRow> rows{sample_row(0), sample_row(1), sample_row(2)};
+  append_history_h5(history(), rows);
+  EXPECT_TRUE(carries_h5_seal(history()));
+  EXPECT_NO_THROW(verify_h5_seal(history()));  // the seal covers the bytes that were renamed into place
+  const std::vector<HistoryRow> read = read_history_h5(history());
+  ASSERT_EQ(read.size(), rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) expect_same(read[i], rows[i]);
+}
+
+TEST_F(HistoryTest, DamagedSealedHistoryIsRefusedInOneLineBeforeLibhdf5ReadsIt) {
+  const std::vector<HistoryRow> rows{sample_row(0), sample_row(1)};
+  append_history_h5(history(), rows);
+  const std::string whole = bytes_of(history());
+  std::vector<std::string> damaged;
+  // The first byte libhdf5 reads, one in the middle, the last: each a change libhdf5 itself may
+  // not notice (the middle one lands in string or number data), so only the seal can refuse it.
+  for (const std::size_t at : {h5_seal_bytes, (h5_seal_bytes + whole.size()) / 2, whole.size() - 1}) {
+    std::string flipped = whole;
+    flipped[at] = static_cast<char>(flipped[at] ^ 0x20);
+    damaged.push_back(write_bytes("flipped_" + std::to_string(at) + ".h5", flipped));
+  }
+  for (const std::size_t length : {whole.size() / 2, whole.size() - 1})
+    damaged.push_back(write_bytes("truncated_" + std::to_string(length) + ".h5", whole.substr(0, length)));
+  for (const std::string& path : damaged) {
+    const std::string message = read_error(path);
+    EXPECT_TRUE(message.starts_with(path + ": corrupt or truncated (")) << path << ": " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    // An append to it refuses too, and leaves it as it was.
+    const std::string before = bytes_of(path);
+    EXPECT_THROW(append_history_h5(path, rows), InputError) << path;
+    EXPECT_TRUE(bytes_of(path) == before) << path << " was changed";
+  }
+  // Through the binary: exit code 2, one line naming the file.
+  const Ending shown = bench_test::run_bench({"history", "show", damaged.front()}, directory_);
+  EXPECT_EQ(shown.exit_code, 2) << shown.err;
+  EXPECT_EQ(std::ranges::count(shown.err, '\n'), 1) << shown.err;
+  EXPECT_NE(shown.err.find(damaged.front() + ": corrupt or truncated (checksum mismatch)"), std::string::npos)
+      << shown.err;
+}
+
+TEST_F(HistoryTest, UnsealedHistoryOfAnOlderBenchIsReadAndSealedByTheNextAppend) {
+  const std::vector<HistoryRow> rows{sample_row(0), sample_row(1), sample_row(2), sample_row(3)};
+  append_history_h5(history(), std::span(rows).first(2));
+  // The HDF5 file proper without its user block: a plain HDF5 file, as fx2d-bench wrote history
+  // files before it sealed them (libhdf5 finds the superblock at byte 0 instead of 512).
+  const std::string unsealed = write_bytes("old.h5", bytes_of(history()).substr(h5_seal_bytes));
+  ASSERT_FALSE(carries_h5_seal(unsealed));
+  std::vector<HistoryRow> read = read_history_h5(unsealed);
+  ASSERT_EQ(read.size(), 2u);
+  for (std::size_t i = 0; i < read.size(); ++i) expect_same(read[i], rows[i]);
+
+  append_history_h5(unsealed, std::span(rows).subspan(2));
+  EXPECT_TRUE(carries_h5_seal(unsealed));
+  EXPECT_NO_THROW(verify_h5_seal(unsealed));
+  read = read_history_h5(unsealed);
+  ASSERT_EQ(read.size(), rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) expect_same(read[i], rows[i]);
 }
 
 // --- the command ----------------------------------------------------------------------------------

@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "file_integrity.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -269,6 +271,28 @@ TEST_F(ReportOfHistory, HistoryFileProducesTheTrendChartAndTheLastNight) {
   EXPECT_NE(html.find("Last night (2026-11-03T02:00:00Z)"), std::string::npos);
   // The second and third nights were 10% slower beyond the band: the gate saw a step each night.
   EXPECT_NE(html.find("<td>step</td><td>yes</td>"), std::string::npos) << "the accepted night's fx2d row";
+}
+
+TEST_F(ReportOfHistory, SealedHistoryIsVerifiedAndADamagedOneRefusedBeforeAnythingIsDrawn) {
+  ASSERT_TRUE(fxbench::carries_h5_seal(history().string())) << "history append seals the file it writes";
+  std::string bytes = read_text(history());
+  bytes[(fxbench::h5_seal_bytes + bytes.size()) / 2] ^= 0x20;
+  const fs::path damaged = scratch_ / "damaged.h5";
+  std::ofstream(damaged, std::ios::binary) << bytes;
+  expect_one_line_input_error(shell(bench("report " + damaged.string() + " -o " + (scratch_ / "out").string()), scratch_),
+                              damaged.string() + ": corrupt or truncated (checksum mismatch)");
+  EXPECT_FALSE(fs::exists(scratch_ / "out"));
+}
+
+TEST_F(ReportOfHistory, UnsealedHistoryOfAnOlderBenchIsStillReported) {
+  // The HDF5 file proper without its user block, as fx2d-bench wrote history files before sealing them.
+  const fs::path old = scratch_ / "old.h5";
+  std::ofstream(old, std::ios::binary) << read_text(history()).substr(fxbench::h5_seal_bytes);
+  ASSERT_FALSE(fxbench::carries_h5_seal(old.string()));
+  const Outcome reported = shell(bench("report " + old.string() + " -o " + (scratch_ / "out").string()), scratch_);
+  ASSERT_EQ(reported.exit_code, 0) << reported.err;
+  EXPECT_EQ(image_sources(read_text(scratch_ / "out" / "index.html")),
+            std::vector<std::string>{"history_old_h5_ms_per_step.png"});
 }
 
 class ReportRefusals : public ::testing::Test {
