@@ -5,10 +5,13 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
+#include <thread>
 
 #include "errors.h"
 
@@ -30,6 +33,14 @@ void sync_to_disk(const std::string& path, const std::string& name) {
   if (synced != 0) fail(path, "cannot sync " + name + " to disk");
 }
 
+// Test-only and undocumented for users: crash_safety_test sets FX2D_ATOMIC_FILE_TEST_PAUSE_MS in
+// the fx2d-bench it signals during a write, so that the moment between a complete temporary file
+// and the rename lasts long enough for its signals to land there on a slow, loaded machine.
+void pause_before_rename_for_tests() {
+  if (const char* milliseconds = std::getenv("FX2D_ATOMIC_FILE_TEST_PAUSE_MS"))
+    std::this_thread::sleep_for(std::chrono::milliseconds(std::atoi(milliseconds)));
+}
+
 std::string directory_of(const std::string& path) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   return parent.empty() ? "." : parent.string();
@@ -48,6 +59,7 @@ void write_atomically(const std::string& path, const std::function<void(const st
     stage("written");
     sync_to_disk(path, temporary);
     stage("synced");
+    pause_before_rename_for_tests();
     if (std::rename(temporary.c_str(), path.c_str()) != 0) fail(path, "cannot rename " + temporary + " into place");
   } catch (...) {
     std::remove(temporary.c_str());

@@ -35,19 +35,24 @@ struct Ending {
 
 class BenchProcess {
  public:
-  // Starts FX2D_BENCH_EXE with `arguments`; stdout and stderr go to stdout.txt and stderr.txt in
-  // `directory`.
-  BenchProcess(std::vector<std::string> arguments, const std::filesystem::path& directory)
+  // Starts FX2D_BENCH_EXE with `arguments`, in this process's environment plus `extra_environment`
+  // ("NAME=value" each); stdout and stderr go to stdout.txt and stderr.txt in `directory`.
+  BenchProcess(std::vector<std::string> arguments, const std::filesystem::path& directory,
+               std::vector<std::string> extra_environment = {})
       : out_path_(directory / "stdout.txt"), err_path_(directory / "stderr.txt") {
     arguments.insert(arguments.begin(), FX2D_BENCH_EXE);
     std::vector<char*> argv;
     for (std::string& argument : arguments) argv.push_back(argument.data());
     argv.push_back(nullptr);
+    std::vector<char*> environment;
+    for (char** variable = environ; *variable != nullptr; ++variable) environment.push_back(*variable);
+    for (std::string& variable : extra_environment) environment.push_back(variable.data());
+    environment.push_back(nullptr);
     posix_spawn_file_actions_t files;
     posix_spawn_file_actions_init(&files);
     posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, out_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_addopen(&files, STDERR_FILENO, err_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int failed = posix_spawn(&pid_, FX2D_BENCH_EXE, &files, nullptr, argv.data(), environ);
+    const int failed = posix_spawn(&pid_, FX2D_BENCH_EXE, &files, nullptr, argv.data(), environment.data());
     posix_spawn_file_actions_destroy(&files);
     if (failed != 0) throw std::runtime_error(std::string("cannot start ") + FX2D_BENCH_EXE);
   }
