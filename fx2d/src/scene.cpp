@@ -80,7 +80,12 @@ void validate_settings(const FxSceneSettings& s) {
   require(std::isfinite(s.max_linear_speed) && s.max_linear_speed > 0.0f, "max_linear_speed", "a finite number > 0");
 }
 
-World::World(const FxSceneSettings& s) : settings(s) { validate_settings(settings); }
+World::World(const FxSceneSettings& s) : settings(s) {
+  validate_settings(settings);
+#if FX2D_SCALAR_SOLVER
+  settings.force_scalar_solver = true;  // a build that measures the scalar twin (CMake FX2D_SCALAR_SOLVER)
+#endif
+}
 
 FxVec2f slowed_to(FxVec2f v, float max_speed) {
   const float speed_squared = length_squared(v);
