@@ -1,8 +1,6 @@
 #include "contact_batch.h"
 
 #include <algorithm>
-#include <cstddef>
-#include <cstring>
 
 namespace fx2d::detail {
 namespace {
@@ -110,77 +108,17 @@ template <LaneFn LaneSolve>
   }
 }
 
-// The first 16 bytes of an FxBodyState (velocity, spin, flags) as one vector, and eight of them
-// side by side. GCC and Clang vector extensions, not intrinsics: they lower to SSE, AVX or NEON.
-using Row = float __attribute__((vector_size(16)));
-using Column = float __attribute__((vector_size(32)));
-static_assert(offsetof(FxBodyState, linear_velocity) == 0 && offsetof(FxBodyState, angular_velocity) == 8 &&
-                  offsetof(FxBodyState, flags) == 12,
-              "gather_columns reads velocity, spin and flags as the first four floats of a body state");
-static_assert(fx_lanes == 8, "gather_columns and scatter_columns transpose eight rows");
-
-[[gnu::always_inline]] inline Row load_row(const FxBodyState& state) {
-  Row row;
-  std::memcpy(&row, &state, sizeof row);
-  return row;
-}
-
-// Four bodies' rows into four-lane columns (vx, vy, w, flags): a 4x4 transpose in shuffles.
-[[gnu::always_inline]] inline void transpose_rows(Row r0, Row r1, Row r2, Row r3, Row& vx, Row& vy, Row& w, Row& flags) {
-  const Row xy01 = __builtin_shufflevector(r0, r1, 0, 4, 1, 5);
-  const Row wf01 = __builtin_shufflevector(r0, r1, 2, 6, 3, 7);
-  const Row xy23 = __builtin_shufflevector(r2, r3, 0, 4, 1, 5);
-  const Row wf23 = __builtin_shufflevector(r2, r3, 2, 6, 3, 7);
-  vx = __builtin_shufflevector(xy01, xy23, 0, 1, 4, 5);
-  vy = __builtin_shufflevector(xy01, xy23, 2, 3, 6, 7);
-  w = __builtin_shufflevector(wf01, wf23, 0, 1, 4, 5);
-  flags = __builtin_shufflevector(wf01, wf23, 2, 3, 6, 7);
-}
-
-// The velocity columns of one side of a batch (vx, vy, w and the untouched flags), from eight body
-// states read as whole rows: loads and shuffles instead of 24 single-float inserts. Filled through
-// a reference: a 32-byte vector by value changes the ABI between the AVX2 and default clones.
-struct SideColumns {
-  Column vx, vy, w, flags;
-};
-
-[[gnu::always_inline]] inline void gather_columns(const FxBodyState* __restrict states, const std::uint32_t* body, SideColumns& c) {
-  Row vx[2], vy[2], w[2], flags[2];
-  for (int half = 0; half < 2; ++half) {
-    const std::uint32_t* b = body + 4 * half;
-    transpose_rows(load_row(states[b[0]]), load_row(states[b[1]]), load_row(states[b[2]]), load_row(states[b[3]]),
-                   vx[half], vy[half], w[half], flags[half]);
-  }
-  c.vx = __builtin_shufflevector(vx[0], vx[1], 0, 1, 2, 3, 4, 5, 6, 7);
-  c.vy = __builtin_shufflevector(vy[0], vy[1], 0, 1, 2, 3, 4, 5, 6, 7);
-  c.w = __builtin_shufflevector(w[0], w[1], 0, 1, 2, 3, 4, 5, 6, 7);
-  c.flags = __builtin_shufflevector(flags[0], flags[1], 0, 1, 2, 3, 4, 5, 6, 7);
-}
-
-// The inverse: columns back into rows, each written whole. Lanes that share a body (only static or
-// kinematic ones, or the padding body) carry the same unchanged values, so the order is moot.
-[[gnu::always_inline]] inline void scatter_columns(FxBodyState* __restrict states, const std::uint32_t* body, const SideColumns& c) {
-  Row rows[8];
-  transpose_rows(__builtin_shufflevector(c.vx, c.vx, 0, 1, 2, 3), __builtin_shufflevector(c.vy, c.vy, 0, 1, 2, 3),
-                 __builtin_shufflevector(c.w, c.w, 0, 1, 2, 3), __builtin_shufflevector(c.flags, c.flags, 0, 1, 2, 3),
-                 rows[0], rows[1], rows[2], rows[3]);  // a 4x4 transpose is its own inverse
-  transpose_rows(__builtin_shufflevector(c.vx, c.vx, 4, 5, 6, 7), __builtin_shufflevector(c.vy, c.vy, 4, 5, 6, 7),
-                 __builtin_shufflevector(c.w, c.w, 4, 5, 6, 7), __builtin_shufflevector(c.flags, c.flags, 4, 5, 6, 7),
-                 rows[4], rows[5], rows[6], rows[7]);
-  for (int lane = 0; lane < fx_lanes; ++lane) std::memcpy(static_cast<void*>(&states[body[lane]]), &rows[lane], sizeof(Row));
-}
-
 // Invariant: no two lanes share a movable body (one colour). Gather every lane, solve them as one
 // vectorisable loop over local columns, scatter every lane.
 template <LaneFn LaneSolve>
 [[gnu::always_inline]] inline void run_batched(FxContactBatch& __restrict k, FxBodyState* __restrict states, const ContactSolveParams& p) {
   // Columns of the lanes' velocities, so that the solve loop reads and writes unit-stride arrays.
-  SideColumns a_side, b_side;
-  gather_columns(states, k.body_a, a_side);
-  gather_columns(states, k.body_b, b_side);
+  LaneColumns a_side, b_side;
+  gather_columns<velocity_row>(states, k.body_a, a_side);
+  gather_columns<velocity_row>(states, k.body_b, b_side);
   alignas(32) float avx[fx_lanes], avy[fx_lanes], aw[fx_lanes], bvx[fx_lanes], bvy[fx_lanes], bw[fx_lanes];
-  std::memcpy(avx, &a_side.vx, sizeof avx), std::memcpy(avy, &a_side.vy, sizeof avy), std::memcpy(aw, &a_side.w, sizeof aw);
-  std::memcpy(bvx, &b_side.vx, sizeof bvx), std::memcpy(bvy, &b_side.vy, sizeof bvy), std::memcpy(bw, &b_side.w, sizeof bw);
+  to_lanes(a_side.c0, avx), to_lanes(a_side.c1, avy), to_lanes(a_side.c2, aw);
+  to_lanes(b_side.c0, bvx), to_lanes(b_side.c1, bvy), to_lanes(b_side.c2, bw);
   // check-vectorized(6): the lane loop below, in all six instantiations (warm start and
   // solve with and without bias, one and two points), must be vectorised (ci/check-vectorized)
   for (int lane = 0; lane < fx_lanes; ++lane) {
@@ -190,10 +128,12 @@ template <LaneFn LaneSolve>
     avx[lane] = a.vx, avy[lane] = a.vy, aw[lane] = a.w;
     bvx[lane] = b.vx, bvy[lane] = b.vy, bw[lane] = b.w;
   }
-  std::memcpy(&a_side.vx, avx, sizeof avx), std::memcpy(&a_side.vy, avy, sizeof avy), std::memcpy(&a_side.w, aw, sizeof aw);
-  std::memcpy(&b_side.vx, bvx, sizeof bvx), std::memcpy(&b_side.vy, bvy, sizeof bvy), std::memcpy(&b_side.w, bw, sizeof bw);
-  scatter_columns(states, k.body_a, a_side);
-  scatter_columns(states, k.body_b, b_side);
+  from_lanes(avx, a_side.c0), from_lanes(avy, a_side.c1), from_lanes(aw, a_side.c2);
+  from_lanes(bvx, b_side.c0), from_lanes(bvy, b_side.c1), from_lanes(bw, b_side.c2);
+  // Lanes that share a body (only static or kinematic ones, or the padding body) carry the same
+  // unchanged values, so the order of the writes is moot.
+  scatter_columns<velocity_row>(states, k.body_a, a_side);
+  scatter_columns<velocity_row>(states, k.body_b, b_side);
 }
 
 // Relative pose of the two bodies of every lane since the step began, gathered into columns.

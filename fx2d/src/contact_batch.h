@@ -19,10 +19,9 @@
 
 #include "contact_graph.h"
 #include "contact_solver.h"
+#include "lane_rows.h"
 
 namespace fx2d::detail {
-
-inline constexpr int fx_lanes = 8;
 
 // The part of a body's solver state a velocity pass reads and writes, copied into locals.
 struct LaneBody {
@@ -65,17 +64,6 @@ struct BatchRun {
   int point_count = 1;  // 1 or 2
   bool serial = false;  // overflow: lanes may share bodies
 };
-
-// Where the CPU allows more than the build's baseline instruction set, the lane kernels are
-// compiled a second time for AVX2 and the loader picks the version (an ifunc), so a portable
-// binary still gets eight-wide lanes. The result is the same to the bit: AVX2 brings no fused
-// multiply-add (that is the separate FMA extension), and lanes are independent. Every lane
-// function is always_inline, so each version holds its own copy of them.
-#if defined(__x86_64__) && !defined(__AVX2__)
-#define FX2D_LANE_KERNEL __attribute__((target_clones("avx2", "default")))
-#else
-#define FX2D_LANE_KERNEL
-#endif
 
 class ContactBatches {
  public:

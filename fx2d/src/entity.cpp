@@ -116,7 +116,7 @@ void World::reserve_scratch() {
   moved_bodies.reserve(n);
   new_pairs.reserve(4 * n);
   awake_bodies.reserve(n);
-  integrating.reserve(n);
+  integration.reserve(n);
   island_parent.reserve(n);
   island_min_sleep_time.reserve(n);
   contacts.slots.reserve(4 * n);

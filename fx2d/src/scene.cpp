@@ -170,7 +170,7 @@ void World::prepare_solver() {
   // Gather the hot state of every body; sleeping and static ones keep zero velocity and are
   // never written by a constraint (a touching constraint always has its bodies awake).
   awake_bodies.clear();
-  integrating.clear();
+  integration.clear(static_cast<std::uint32_t>(records.size()));
   const float h = settings.dt / static_cast<float>(settings.substeps);
   // Any more would take a body past max_linear_speed within one substep, where it is clamped anyway.
   const float max_acceleration = 2.0f * settings.max_linear_speed / h;
@@ -187,10 +187,12 @@ void World::prepare_solver() {
     state.linear_velocity = sims[i].linear_velocity;
     state.angular_velocity = sims[i].angular_velocity;
     awake_bodies.push_back(i);
+    integration.add_moving(i);
     if (records[i].type != FxBodyType::dynamic) continue;
-    integrating.push_back({i, clamped_acceleration(settings.gravity + sims[i].inv_mass * sims[i].force, max_acceleration),
-                           1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping)});
+    integration.add_dynamic(i, clamped_acceleration(settings.gravity + sims[i].inv_mass * sims[i].force, max_acceleration),
+                            1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping));
   }
+  integration.finish();
   solver.prepare(*this);
   contact_graph.build(solver.constraints, movable);
   contact_batches.pack(solver.constraints, contact_graph, static_cast<std::uint32_t>(records.size()));
@@ -226,8 +228,7 @@ void World::solve_substeps() {
     contact_batches.resolve_velocities(states, params, use_bias, settings.force_scalar_solver);
   };
 
-  const float max_speed = settings.max_linear_speed;
-  const float max_spin = max_angular_speed(settings);
+  const SpeedLimits limits{settings.max_linear_speed, max_angular_speed(settings)};
   {
     FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
     contact_batches.update_separations(states);
@@ -235,12 +236,7 @@ void World::solve_substeps() {
   for (int substep = 0; substep < settings.substeps; ++substep) {
     {
       FX2D_TIME_STAGE(profile, FxStage::integration);
-      // Invariant: integrating holds exactly the awake dynamic bodies, with this step's forces.
-      for (const VelocityIntegration& body : integrating) {
-        FxBodyState& state = states[body.body];
-        state.linear_velocity = limited_speed(body.linear_factor * (state.linear_velocity + h * body.acceleration), max_speed);
-        state.angular_velocity = limited_spin(state.angular_velocity * body.angular_factor, max_spin);
-      }
+      integration.integrate_velocities(states, h, limits);
     }
     if (has_constraints) {
       FX2D_TIME_STAGE(profile, FxStage::constraints);
@@ -255,13 +251,7 @@ void World::solve_substeps() {
       FX2D_TIME_STAGE(profile, FxStage::integration);
       // Clamped again here and at the step's end: the passes can push a body squeezed between
       // immovable bodies, or held by joints that fight, past the limits the integration kept.
-      for (const std::uint32_t i : awake_bodies) {
-        FxBodyState& state = states[i];
-        state.linear_velocity = limited_speed(state.linear_velocity, max_speed);
-        state.angular_velocity = limited_spin(state.angular_velocity, max_spin);
-        state.delta_position += h * state.linear_velocity;
-        state.delta_rotation = integrate_rotation(state.delta_rotation, h * state.angular_velocity);
-      }
+      integration.integrate_positions(states, h, limits);
     }
     {
       FX2D_TIME_STAGE(profile, FxStage::velocity_passes);

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "aabb_tree.h"
+#include "body_integration.h"
 #include "contact_batch.h"
 #include "contact_cache.h"
 #include "contact_graph.h"
@@ -60,15 +61,6 @@ struct BodySim {
   float inv_inertia = 0.0f;
   FxVec2f force;               // accumulated by apply_force(), cleared by the step
   FxAABB aabb;                 // tight bounds at the current pose
-};
-
-// What a substep's velocity integration of one awake dynamic body reads; constant over a step,
-// so it is worked out once in prepare_solver() instead of in every substep.
-struct VelocityIntegration {
-  std::uint32_t body = 0;      // packed index
-  FxVec2f acceleration;        // gravity + inv_mass * force
-  float linear_factor = 1.0f;  // 1 / (1 + h * linear_damping), h the substep
-  float angular_factor = 1.0f;
 };
 
 struct Snapshot {
@@ -139,7 +131,7 @@ class World final {
   std::vector<std::uint32_t> moved_bodies;
   std::vector<std::uint64_t> new_pairs;  // (moved body << 32 | other body) of each pair found this step
   std::vector<std::uint32_t> awake_bodies;
-  std::vector<VelocityIntegration> integrating;  // the awake dynamic bodies
+  BodyIntegration integration;  // the awake moving bodies, for the substep loops
   std::vector<int> island_parent;
   std::vector<float> island_min_sleep_time;
   std::size_t reserved_bodies = 0;
@@ -162,8 +154,11 @@ inline FxVec2f limited_speed(FxVec2f v, float max_speed) {
   return length_squared(v) <= max_speed * max_speed ? v : slowed_to(v, max_speed);
 }
 
-// `w` clamped to +-max_spin; a NaN spin becomes 0.
-inline float limited_spin(float w, float max_spin) { return std::isnan(w) ? 0.0f : std::clamp(w, -max_spin, max_spin); }
+// `w` clamped to +-max_spin; a NaN spin becomes 0. Selects on values, not std::clamp's references,
+// so that a lane loop calling it vectorises with either compiler.
+inline float limited_spin(float w, float max_spin) {
+  return std::isnan(w) ? 0.0f : (w < -max_spin ? -max_spin : (max_spin < w ? max_spin : w));
+}
 
 // Clamps a body's velocity to the scene's linear and angular speed limits, so that no push,
 // however large, can turn a finite state into an infinite one.

@@ -1,0 +1,132 @@
+#include "body_integration.h"
+
+#include "lane_rows.h"
+#include "world.h"
+
+namespace fx2d::detail {
+namespace {
+
+// The rare lanes the vectorised limit did not cover: faster than max_speed, overflowed or NaN.
+[[gnu::always_inline]] inline void slow_fast_lanes(float* vx, float* vy, const float* speed_squared, float max_speed) {
+  const float max_speed_squared = max_speed * max_speed;
+  for (int lane = 0; lane < fx_lanes; ++lane) {
+    if (speed_squared[lane] <= max_speed_squared) continue;  // also false for NaN
+    const FxVec2f slowed = slowed_to({vx[lane], vy[lane]}, max_speed);
+    vx[lane] = slowed.x, vy[lane] = slowed.y;
+  }
+}
+
+// v <- limited(linear_factor * (v + h * acceleration)) before the rare lanes are slowed; w likewise.
+[[gnu::always_inline]] inline void accelerate_lanes(float* __restrict vx, float* __restrict vy, float* __restrict w,
+                                                    float* __restrict speed_squared, const float* __restrict ax,
+                                                    const float* __restrict ay, const float* __restrict linear_factor,
+                                                    const float* __restrict angular_factor, float h, float max_spin) {
+  // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
+#pragma GCC unroll 1  // unrolled first, the loop is left to the weaker straight-line vectoriser
+  for (int lane = 0; lane < fx_lanes; ++lane) {
+    const float x = linear_factor[lane] * (vx[lane] + h * ax[lane]);
+    const float y = linear_factor[lane] * (vy[lane] + h * ay[lane]);
+    vx[lane] = x, vy[lane] = y;
+    speed_squared[lane] = x * x + y * y;
+    w[lane] = limited_spin(w[lane] * angular_factor[lane], max_spin);
+  }
+}
+
+struct DynamicColumns {
+  const std::uint32_t* body;
+  const float *acceleration_x, *acceleration_y, *linear_factor, *angular_factor;
+};
+
+FX2D_LANE_KERNEL void integrate_velocity_groups(DynamicColumns d, std::size_t count, FxBodyState* states, float h,
+                                                SpeedLimits limits) {
+  for (std::size_t first = 0; first < count; first += fx_lanes) {
+    LaneColumns row;
+    gather_columns<velocity_row>(states, d.body + first, row);
+    alignas(32) float vx[fx_lanes], vy[fx_lanes], w[fx_lanes], speed_squared[fx_lanes];
+    to_lanes(row.c0, vx), to_lanes(row.c1, vy), to_lanes(row.c2, w);
+    accelerate_lanes(vx, vy, w, speed_squared, d.acceleration_x + first, d.acceleration_y + first, d.linear_factor + first,
+                     d.angular_factor + first, h, limits.max_spin);
+    slow_fast_lanes(vx, vy, speed_squared, limits.max_speed);
+    from_lanes(vx, row.c0), from_lanes(vy, row.c1), from_lanes(w, row.c2);
+    scatter_columns<velocity_row>(states, d.body + first, row);
+  }
+}
+
+FX2D_LANE_KERNEL void integrate_position_groups(const std::uint32_t* body, std::size_t count, FxBodyState* states, float h,
+                                                SpeedLimits limits) {
+  for (std::size_t first = 0; first < count; first += fx_lanes) {
+    LaneColumns velocity, pose;
+    gather_columns<velocity_row>(states, body + first, velocity);
+    gather_columns<pose_row>(states, body + first, pose);
+    alignas(32) float vx[fx_lanes], vy[fx_lanes], w[fx_lanes], speed_squared[fx_lanes];
+    to_lanes(velocity.c0, vx), to_lanes(velocity.c1, vy), to_lanes(velocity.c2, w);
+    // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
+#pragma GCC unroll 1
+    for (int lane = 0; lane < fx_lanes; ++lane) {
+      speed_squared[lane] = vx[lane] * vx[lane] + vy[lane] * vy[lane];
+      w[lane] = limited_spin(w[lane], limits.max_spin);
+    }
+    slow_fast_lanes(vx, vy, speed_squared, limits.max_speed);
+    alignas(32) float dpx[fx_lanes], dpy[fx_lanes], qc[fx_lanes], qs[fx_lanes];
+    to_lanes(pose.c0, dpx), to_lanes(pose.c1, dpy), to_lanes(pose.c2, qc), to_lanes(pose.c3, qs);
+    // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
+#pragma GCC unroll 1
+    for (int lane = 0; lane < fx_lanes; ++lane) {
+      dpx[lane] += h * vx[lane];
+      dpy[lane] += h * vy[lane];
+      const FxRot q = integrate_rotation({qc[lane], qs[lane]}, h * w[lane]);
+      qc[lane] = q.c, qs[lane] = q.s;
+    }
+    from_lanes(vx, velocity.c0), from_lanes(vy, velocity.c1), from_lanes(w, velocity.c2);
+    from_lanes(dpx, pose.c0), from_lanes(dpy, pose.c1), from_lanes(qc, pose.c2), from_lanes(qs, pose.c3);
+    scatter_columns<velocity_row>(states, body + first, velocity);
+    scatter_columns<pose_row>(states, body + first, pose);
+  }
+}
+
+}  // namespace
+
+void BodyIntegration::reserve(std::size_t bodies) {
+  const std::size_t padded = bodies + fx_lanes;
+  moving_.reserve(padded);
+  dynamic_.reserve(padded);
+  for (std::vector<float>* column : {&acceleration_x_, &acceleration_y_, &linear_factor_, &angular_factor_}) {
+    column->reserve(padded);
+  }
+}
+
+void BodyIntegration::clear(std::uint32_t padding_body) {
+  padding_body_ = padding_body;
+  moving_.clear();
+  dynamic_.clear();
+  for (std::vector<float>* column : {&acceleration_x_, &acceleration_y_, &linear_factor_, &angular_factor_}) {
+    column->clear();
+  }
+}
+
+void BodyIntegration::add_moving(std::uint32_t body) { moving_.push_back(body); }
+
+void BodyIntegration::add_dynamic(std::uint32_t body, FxVec2f acceleration, float linear_factor, float angular_factor) {
+  dynamic_.push_back(body);
+  acceleration_x_.push_back(acceleration.x);
+  acceleration_y_.push_back(acceleration.y);
+  linear_factor_.push_back(linear_factor);
+  angular_factor_.push_back(angular_factor);
+}
+
+void BodyIntegration::finish() {
+  while (moving_.size() % fx_lanes != 0) moving_.push_back(padding_body_);
+  while (dynamic_.size() % fx_lanes != 0) add_dynamic(padding_body_, {}, 1.0f, 1.0f);
+}
+
+void BodyIntegration::integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits) const {
+  const DynamicColumns columns{dynamic_.data(), acceleration_x_.data(), acceleration_y_.data(), linear_factor_.data(),
+                               angular_factor_.data()};
+  integrate_velocity_groups(columns, dynamic_.size(), states.data(), h, limits);
+}
+
+void BodyIntegration::integrate_positions(std::span<FxBodyState> states, float h, SpeedLimits limits) const {
+  integrate_position_groups(moving_.data(), moving_.size(), states.data(), h, limits);
+}
+
+}  // namespace fx2d::detail

@@ -1,0 +1,54 @@
+// The substep's two body loops, eight bodies at a time: velocity integration (gravity, forces,
+// damping) of the awake dynamic bodies, and position integration of every awake moving body,
+// each with the speed limits applied first.
+//
+// Invariants:
+// - both body lists are padded to whole groups of eight with the padding body, whose state is
+//   zero and stays zero (no acceleration, factor one), so every group is gathered, solved as one
+//   vectorisable loop and scattered whole;
+// - a body appears once in a list, except the padding body, whose lanes compute equal values;
+// - the arithmetic of a lane is the scalar arithmetic of one body, and the rare lane over the
+//   speed limit is slowed by the scalar slowed_to(), so the result does not depend on the lanes.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "fx2d/Constraint.h"
+#include "fx2d/Math.h"
+
+namespace fx2d::detail {
+
+struct SpeedLimits {
+  float max_speed = 0.0f;  // m/s
+  float max_spin = 0.0f;   // rad/s
+};
+
+class BodyIntegration {
+ public:
+  // Grows storage for this many bodies, so a step does not allocate up to there.
+  void reserve(std::size_t bodies);
+  // Starts the step's lists; `padding_body` indexes a zero state that nothing reads back.
+  void clear(std::uint32_t padding_body);
+  // An awake body that moves: kinematic or dynamic.
+  void add_moving(std::uint32_t body);
+  // An awake dynamic body (also added with add_moving), with what its velocity integration reads.
+  void add_dynamic(std::uint32_t body, FxVec2f acceleration, float linear_factor, float angular_factor);
+  // Pads both lists to whole groups; call once, after the last add.
+  void finish();
+
+  // v <- limited(linear_factor * (v + h * acceleration)), w <- limited(angular_factor * w).
+  void integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits) const;
+  // v, w <- limited(v, w); then displacement and rotation advance by h.
+  void integrate_positions(std::span<FxBodyState> states, float h, SpeedLimits limits) const;
+
+ private:
+  std::uint32_t padding_body_ = 0;
+  std::vector<std::uint32_t> moving_;
+  std::vector<std::uint32_t> dynamic_;
+  // Per entry of dynamic_:
+  std::vector<float> acceleration_x_, acceleration_y_, linear_factor_, angular_factor_;
+};
+
+}  // namespace fx2d::detail
