@@ -1,10 +1,10 @@
 // Eight body states read as rows and turned into eight-lane columns, and back: what the solver's
 // lane loops (contact batches, body integration) gather before they run and scatter after.
 //
-// An FxBodyState is 32 bytes, two 16-byte rows: (vx, vy, w, flags) and (dpx, dpy, dqc, dqs). Four
-// rows become four four-lane columns in one 4x4 transpose of shuffles, so eight bodies cost eight
-// row loads and a dozen shuffles per half instead of 32 single-float inserts. GCC and Clang
-// vector extensions, not intrinsics: they lower to SSE, AVX or NEON.
+// An FxBodyState is 32 bytes, two 16-byte rows: (vx, vy, w, flags) and (dpx, dpy, dqc, dqs). Eight
+// rows become four eight-lane columns in eight row loads and eight in-half shuffles, instead of 32
+// single-float inserts. GCC and Clang vector extensions, not intrinsics: they lower to SSE, AVX or
+// NEON.
 #pragma once
 
 #include <cstddef>
@@ -53,50 +53,53 @@ template <std::size_t Row>
   return row;
 }
 
-// Four rows into four columns: a 4x4 transpose, which is its own inverse.
-[[gnu::always_inline]] inline void transpose_rows(LaneRow r0, LaneRow r1, LaneRow r2, LaneRow r3, LaneRow& c0, LaneRow& c1,
-                                                  LaneRow& c2, LaneRow& c3) {
-  const LaneRow low01 = __builtin_shufflevector(r0, r1, 0, 4, 1, 5);
-  const LaneRow high01 = __builtin_shufflevector(r0, r1, 2, 6, 3, 7);
-  const LaneRow low23 = __builtin_shufflevector(r2, r3, 0, 4, 1, 5);
-  const LaneRow high23 = __builtin_shufflevector(r2, r3, 2, 6, 3, 7);
-  c0 = __builtin_shufflevector(low01, low23, 0, 1, 4, 5);
-  c1 = __builtin_shufflevector(low01, low23, 2, 3, 6, 7);
-  c2 = __builtin_shufflevector(high01, high23, 0, 1, 4, 5);
-  c3 = __builtin_shufflevector(high01, high23, 2, 3, 6, 7);
-}
-
-// Row `Row` of the eight bodies `body[0..8)`, as columns. Filled through a reference: a 32-byte
-// vector by value changes the ABI between the AVX2 and default clones.
+// Row `Row` of the eight bodies `body[0..8)`, as columns: bodies i and i + 4 share a vector, one
+// per half, and each half is transposed 4x4 on its own (interleave pairs of rows, then pairs of
+// pairs), as the 256-bit unpack and shuffle instructions work, so no shuffle crosses the halves.
+// Written out, not in helper functions: a 32-byte vector passed by value changes the ABI between
+// the AVX2 and default clones, and so does `c` returned instead of filled.
 template <std::size_t Row>
 [[gnu::always_inline]] inline void gather_columns(const FxBodyState* __restrict states, const std::uint32_t* body,
                                                   LaneColumns& c) {
-  LaneRow c0[2], c1[2], c2[2], c3[2];
-  for (int half = 0; half < 2; ++half) {
-    const std::uint32_t* b = body + 4 * half;
-    transpose_rows(load_row<Row>(states[b[0]]), load_row<Row>(states[b[1]]), load_row<Row>(states[b[2]]),
-                   load_row<Row>(states[b[3]]), c0[half], c1[half], c2[half], c3[half]);
+  LaneColumn r[4];
+  for (int i = 0; i < 4; ++i) {
+    r[i] = __builtin_shufflevector(load_row<Row>(states[body[i]]), load_row<Row>(states[body[i + 4]]), 0, 1, 2, 3, 4,
+                                   5, 6, 7);
   }
-  c.c0 = __builtin_shufflevector(c0[0], c0[1], 0, 1, 2, 3, 4, 5, 6, 7);
-  c.c1 = __builtin_shufflevector(c1[0], c1[1], 0, 1, 2, 3, 4, 5, 6, 7);
-  c.c2 = __builtin_shufflevector(c2[0], c2[1], 0, 1, 2, 3, 4, 5, 6, 7);
-  c.c3 = __builtin_shufflevector(c3[0], c3[1], 0, 1, 2, 3, 4, 5, 6, 7);
+  const LaneColumn t0 = __builtin_shufflevector(r[0], r[1], 0, 8, 1, 9, 4, 12, 5, 13);
+  const LaneColumn t1 = __builtin_shufflevector(r[0], r[1], 2, 10, 3, 11, 6, 14, 7, 15);
+  const LaneColumn t2 = __builtin_shufflevector(r[2], r[3], 0, 8, 1, 9, 4, 12, 5, 13);
+  const LaneColumn t3 = __builtin_shufflevector(r[2], r[3], 2, 10, 3, 11, 6, 14, 7, 15);
+  c.c0 = __builtin_shufflevector(t0, t2, 0, 1, 8, 9, 4, 5, 12, 13);
+  c.c1 = __builtin_shufflevector(t0, t2, 2, 3, 10, 11, 6, 7, 14, 15);
+  c.c2 = __builtin_shufflevector(t1, t3, 0, 1, 8, 9, 4, 5, 12, 13);
+  c.c3 = __builtin_shufflevector(t1, t3, 2, 3, 10, 11, 6, 7, 14, 15);
+}
+
+template <std::size_t Row>
+[[gnu::always_inline]] inline void store_row(FxBodyState& state, LaneRow row) {
+  std::memcpy(reinterpret_cast<unsigned char*>(&state) + Row, &row, sizeof row);
 }
 
 // The inverse: columns back into row `Row` of each body, each row written whole. Bodies that
-// appear in more than one lane must carry the same values in each (the caller's invariant).
+// appear in more than one lane must carry the same values in each (the caller's invariant), as
+// the rows are written in the order 0, 4, 1, 5, ...
 template <std::size_t Row>
 [[gnu::always_inline]] inline void scatter_columns(FxBodyState* __restrict states, const std::uint32_t* body,
                                                    const LaneColumns& c) {
-  LaneRow rows[8];
-  transpose_rows(__builtin_shufflevector(c.c0, c.c0, 0, 1, 2, 3), __builtin_shufflevector(c.c1, c.c1, 0, 1, 2, 3),
-                 __builtin_shufflevector(c.c2, c.c2, 0, 1, 2, 3), __builtin_shufflevector(c.c3, c.c3, 0, 1, 2, 3),
-                 rows[0], rows[1], rows[2], rows[3]);
-  transpose_rows(__builtin_shufflevector(c.c0, c.c0, 4, 5, 6, 7), __builtin_shufflevector(c.c1, c.c1, 4, 5, 6, 7),
-                 __builtin_shufflevector(c.c2, c.c2, 4, 5, 6, 7), __builtin_shufflevector(c.c3, c.c3, 4, 5, 6, 7),
-                 rows[4], rows[5], rows[6], rows[7]);
-  for (int lane = 0; lane < fx_lanes; ++lane) {
-    std::memcpy(reinterpret_cast<unsigned char*>(&states[body[lane]]) + Row, &rows[lane], sizeof(LaneRow));
+  // The same two rounds of in-half interleaving, which undo each other.
+  const LaneColumn t0 = __builtin_shufflevector(c.c0, c.c1, 0, 8, 1, 9, 4, 12, 5, 13);
+  const LaneColumn t1 = __builtin_shufflevector(c.c0, c.c1, 2, 10, 3, 11, 6, 14, 7, 15);
+  const LaneColumn t2 = __builtin_shufflevector(c.c2, c.c3, 0, 8, 1, 9, 4, 12, 5, 13);
+  const LaneColumn t3 = __builtin_shufflevector(c.c2, c.c3, 2, 10, 3, 11, 6, 14, 7, 15);
+  LaneColumn rows[4];
+  rows[0] = __builtin_shufflevector(t0, t2, 0, 1, 8, 9, 4, 5, 12, 13);
+  rows[1] = __builtin_shufflevector(t0, t2, 2, 3, 10, 11, 6, 7, 14, 15);
+  rows[2] = __builtin_shufflevector(t1, t3, 0, 1, 8, 9, 4, 5, 12, 13);
+  rows[3] = __builtin_shufflevector(t1, t3, 2, 3, 10, 11, 6, 7, 14, 15);
+  for (int i = 0; i < 4; ++i) {
+    store_row<Row>(states[body[i]], __builtin_shufflevector(rows[i], rows[i], 0, 1, 2, 3));
+    store_row<Row>(states[body[i + 4]], __builtin_shufflevector(rows[i], rows[i], 4, 5, 6, 7));
   }
 }
 
