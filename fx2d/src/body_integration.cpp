@@ -16,7 +16,8 @@ namespace {
   }
 }
 
-// v <- limited(linear_factor * (v + h * acceleration)) before the rare lanes are slowed; w likewise.
+// v <- linear_factor * (v + h * acceleration), with its squared speed for slow_fast_lanes();
+// w <- angular_factor * w, limited.
 [[gnu::always_inline]] inline void accelerate_lanes(float* __restrict vx, float* __restrict vy, float* __restrict w,
                                                     float* __restrict speed_squared, const float* __restrict ax,
                                                     const float* __restrict ay, const float* __restrict linear_factor,
