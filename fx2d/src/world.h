@@ -154,11 +154,8 @@ inline FxVec2f limited_speed(FxVec2f v, float max_speed) {
   return length_squared(v) <= max_speed * max_speed ? v : slowed_to(v, max_speed);
 }
 
-// `w` clamped to +-max_spin; a NaN spin becomes 0. Selects on values, not std::clamp's references,
-// so that a lane loop calling it vectorises with either compiler.
-inline float limited_spin(float w, float max_spin) {
-  return std::isnan(w) ? 0.0f : (w < -max_spin ? -max_spin : (max_spin < w ? max_spin : w));
-}
+// `w` clamped to +-max_spin; a NaN spin becomes 0.
+inline float limited_spin(float w, float max_spin) { return std::isnan(w) ? 0.0f : std::clamp(w, -max_spin, max_spin); }
 
 // Clamps a body's velocity to the scene's linear and angular speed limits, so that no push,
 // however large, can turn a finite state into an infinite one.
