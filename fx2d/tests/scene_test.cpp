@@ -221,6 +221,31 @@ TEST(Robustness, ForceThatOverflowsTheAccelerationIsClamped) {
   EXPECT_LT(box->linear_velocity().y, 0.0f);
 }
 
+TEST(Robustness, ABodyOverTheSpeedLimitSlowsNoOtherBody) {
+  // Bodies are integrated eight at a time and the rare one over the limit is slowed on its own:
+  // its neighbours in the group must move exactly as they do without it.
+  auto falling_boxes = [](FxScene& scene) {
+    std::vector<std::shared_ptr<FxEntity>> boxes;
+    for (int i = 0; i < 11; ++i) boxes.push_back(add_box(scene, {3.0f * static_cast<float>(i), 0.0f}));
+    return boxes;
+  };
+  FxScene alone;
+  const auto reference = falling_boxes(alone);
+  FxScene with_fast_one;
+  const auto boxes = falling_boxes(with_fast_one);
+  auto fast = add_box(with_fast_one, {0.0f, 50.0f}, 0.05f);
+  fast->apply_force({3.0e38f, -3.0e38f});
+  alone.step();
+  with_fast_one.step();
+  EXPECT_NEAR(length(fast->linear_velocity()), with_fast_one.settings().max_linear_speed, 1e-2f);
+  const float free_fall_speed = -10.0f * alone.settings().dt;  // gravity (0, -10) for one step
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    EXPECT_NEAR(reference[i]->linear_velocity().y, free_fall_speed, 1e-5f) << "box " << i;
+    EXPECT_EQ(boxes[i]->linear_velocity().y, reference[i]->linear_velocity().y) << "box " << i;
+    EXPECT_EQ(boxes[i]->position().y, reference[i]->position().y) << "box " << i;
+  }
+}
+
 TEST(Robustness, PinFarFromALightBodyStaysFinite) {
   // Found by the engine fuzzer: a pin 1e7 m from a light body makes the 2x2 effective-mass
   // matrix overflow float (det ~ 1e43), and its inverse filled the velocities with NaN. Such a
