@@ -98,6 +98,7 @@ void BodyIntegration::reserve(std::size_t bodies) {
 
 void BodyIntegration::clear(std::uint32_t padding_body) {
   padding_body_ = padding_body;
+  moving_count_ = 0;
   moving_.clear();
   dynamic_.clear();
   for (std::vector<float>* column : {&acceleration_x_, &acceleration_y_, &linear_factor_, &angular_factor_}) {
@@ -116,6 +117,7 @@ void BodyIntegration::add_dynamic(std::uint32_t body, FxVec2f acceleration, floa
 }
 
 void BodyIntegration::finish() {
+  moving_count_ = moving_.size();
   while (moving_.size() % fx_lanes != 0) moving_.push_back(padding_body_);
   while (dynamic_.size() % fx_lanes != 0) add_dynamic(padding_body_, {}, 1.0f, 1.0f);
 }

@@ -37,6 +37,8 @@ class BodyIntegration {
   void add_dynamic(std::uint32_t body, FxVec2f acceleration, float linear_factor, float angular_factor);
   // Pads both lists to whole groups; call once, after the last add.
   void finish();
+  // The awake moving bodies added this step, in order, without the padding.
+  std::span<const std::uint32_t> moving_bodies() const { return {moving_.data(), moving_count_}; }
 
   // v <- limited(linear_factor * (v + h * acceleration)), w <- limited(angular_factor * w).
   void integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits) const;
@@ -45,6 +47,7 @@ class BodyIntegration {
 
  private:
   std::uint32_t padding_body_ = 0;
+  std::size_t moving_count_ = 0;  // moving_ before its padding
   std::vector<std::uint32_t> moving_;
   std::vector<std::uint32_t> dynamic_;
   // Per entry of dynamic_:

@@ -115,7 +115,6 @@ void World::reserve_scratch() {
   body_of_proxy.reserve(2 * n);
   moved_bodies.reserve(n);
   new_pairs.reserve(4 * n);
-  awake_bodies.reserve(n);
   integration.reserve(n);
   island_parent.reserve(n);
   island_min_sleep_time.reserve(n);

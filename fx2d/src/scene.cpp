@@ -169,7 +169,6 @@ void World::step() {
 void World::prepare_solver() {
   // Gather the hot state of every body; sleeping and static ones keep zero velocity and are
   // never written by a constraint (a touching constraint always has its bodies awake).
-  awake_bodies.clear();
   integration.clear(static_cast<std::uint32_t>(records.size()));
   const float h = settings.dt / static_cast<float>(settings.substeps);
   // Any more would take a body past max_linear_speed within one substep, where it is clamped anyway.
@@ -186,7 +185,6 @@ void World::prepare_solver() {
     if (!moves) continue;
     state.linear_velocity = sims[i].linear_velocity;
     state.angular_velocity = sims[i].angular_velocity;
-    awake_bodies.push_back(i);
     integration.add_moving(i);
     if (records[i].type != FxBodyType::dynamic) continue;
     integration.add_dynamic(i, clamped_acceleration(settings.gravity + sims[i].inv_mass * sims[i].force, max_acceleration),
@@ -270,7 +268,7 @@ void World::solve_positions() {
 
 void World::finalize_bodies() {
   const float dt = settings.dt;
-  for (const std::uint32_t i : awake_bodies) {
+  for (const std::uint32_t i : integration.moving_bodies()) {
     BodySim& sim = sims[i];
     BodyRecord& record = records[i];
     const FxBodyState& state = states[i];

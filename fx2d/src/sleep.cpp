@@ -48,12 +48,12 @@ void World::update_sleep() {
   }
 
   island_min_sleep_time.assign(records.size(), settings.time_to_sleep);
-  for (const std::uint32_t i : awake_bodies) {
+  for (const std::uint32_t i : integration.moving_bodies()) {
     if (records[i].type != FxBodyType::dynamic) continue;
     float& island_time = island_min_sleep_time[find_root(island_parent, static_cast<int>(i))];
     island_time = std::min(island_time, records[i].sleep_time);
   }
-  for (const std::uint32_t i : awake_bodies) {
+  for (const std::uint32_t i : integration.moving_bodies()) {
     if (records[i].type != FxBodyType::dynamic) continue;
     const int root = find_root(island_parent, static_cast<int>(i));
     if (island_min_sleep_time[root] < settings.time_to_sleep) continue;

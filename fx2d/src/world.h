@@ -130,7 +130,6 @@ class World final {
   // Scratch reused every step, so a step allocates nothing once these have grown.
   std::vector<std::uint32_t> moved_bodies;
   std::vector<std::uint64_t> new_pairs;  // (moved body << 32 | other body) of each pair found this step
-  std::vector<std::uint32_t> awake_bodies;
   BodyIntegration integration;  // the awake moving bodies, for the substep loops
   std::vector<int> island_parent;
   std::vector<float> island_min_sleep_time;
