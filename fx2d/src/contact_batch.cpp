@@ -174,18 +174,28 @@ template <int Points>
   if constexpr (Points == 2) update_point_separations<1>(k, q);
 }
 
+// The batches of one run, in order.
+template <LaneFn LaneSolve>
+[[gnu::always_inline]] inline void sweep_run(FxContactBatch* batches, int count, FxBodyState* states,
+                                             const ContactSolveParams& params, bool serial) {
+  if (serial) {
+    for (int i = 0; i < count; ++i) run_serial<LaneSolve>(batches[i], states, params);
+  } else {
+    for (int i = 0; i < count; ++i) run_batched<LaneSolve>(batches[i], states, params);
+  }
+}
+
 template <LaneFn OnePoint, LaneFn TwoPoints>
 [[gnu::always_inline]] inline void sweep(std::span<const BatchRun> runs, FxContactBatch* batches, FxBodyState* states,
-                                         const ContactSolveParams& params, bool scalar) {
+                                         const ContactSolveParams& caller_params, bool scalar) {
+  // A local copy, which no store to a batch or a body can change, so it is not re-read per batch.
+  const ContactSolveParams params = caller_params;
   for (const BatchRun& run : runs) {
     const bool serial = scalar || run.serial;
-    for (int i = run.first; i < run.first + run.count; ++i) {
-      FxContactBatch& k = batches[i];
-      if (run.point_count == 1) {
-        serial ? run_serial<OnePoint>(k, states, params) : run_batched<OnePoint>(k, states, params);
-      } else {
-        serial ? run_serial<TwoPoints>(k, states, params) : run_batched<TwoPoints>(k, states, params);
-      }
+    if (run.point_count == 1) {
+      sweep_run<OnePoint>(batches + run.first, run.count, states, params, serial);
+    } else {
+      sweep_run<TwoPoints>(batches + run.first, run.count, states, params, serial);
     }
   }
 }
