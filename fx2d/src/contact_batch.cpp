@@ -152,9 +152,9 @@ template <LaneFn LaneSolve>
 // batches of one colour). Gather every lane, solve them as one vectorisable loop over local
 // columns, scatter every lane; the result is the same as solving the batches one after the other.
 // One batch is a chain of dependent arithmetic that leaves most of the core idle; two in one loop
-// give it two chains to interleave (a sweep takes 0.80x the time with one-point batches, 0.885x
-// with two-point ones, on a core of its own; 1.00-1.03x when the core's other hardware thread is
-// busy and there is no idle capacity left to fill).
+// give it two chains to interleave (the sweep alone, timed interleaved with the one-batch loop:
+// 0.80x the time with one-point batches, 0.885x with two-point ones, on a core of its own;
+// 1.00-1.03x when the core's other hardware thread is busy and leaves no idle capacity to fill).
 template <LaneFn LaneSolve, int Count>
 [[gnu::always_inline]] inline void run_batched(FxContactBatch* __restrict k, FxBodyState* __restrict states,
                                                const ContactSolveParams& p) {

@@ -4,7 +4,8 @@
 //
 // Invariants:
 // - lanes of one batch belong to one colour, so they share no movable body and may be solved at
-//   once; overflow batches, whose lanes may share bodies, are solved lane by lane in order;
+//   once (as may the lanes of two batches of one colour, which the sweeps pair up); overflow
+//   batches, whose lanes may share bodies, are solved lane by lane in order;
 // - every lane of a batch has the same point count (one- and two-point manifolds are packed in
 //   separate runs), and unused lanes point at the padding body with zero masses, so they change
 //   nothing;
