@@ -112,9 +112,9 @@ TEST_F(AbTest, ABuildThatFailsNamesTheRevisionAndItsLog) {
 
 // --- the statistical proof -----------------------------------------------------------------------
 
-// One short `ab` (in process: the same functions the command runs) and compare's step-time verdict,
+// One short `ab` (in process: the same functions the command runs) and compare's step-time row,
 // its rounds paired as the command pairs them.
-Speed judged(const EngineInfo& a, const EngineInfo& b, const SceneSpec& scene, int rounds) {
+CompareRow judged(const EngineInfo& a, const EngineInfo& b, const SceneSpec& scene, int rounds) {
   InterleavePlan plan;
   plan.rounds = rounds;
   plan.warmup_steps = scene.steps;
@@ -124,7 +124,7 @@ Speed judged(const EngineInfo& a, const EngineInfo& b, const SceneSpec& scene, i
   variants.a.runs.push_back(std::move(runs.a));
   variants.b.runs.push_back(std::move(runs.b));
   const CompareReport report = compare_variants(variants, CompareSettings{});
-  return report.rows.at(0).speed.speed;
+  return report.rows.at(0);
 }
 
 // The proofs run alone (RUN_SERIAL in CMakeLists.txt) but share the machine with whatever else
@@ -154,10 +154,12 @@ class AbProof : public AbTest {
     int count = 0;
     for (int repetition = 0; repetition < repetitions; ++repetition) {
       const auto start = std::chrono::steady_clock::now();
-      const Speed speed = judged(a, b, scene_, rounds);
+      const CompareRow row = judged(a, b, scene_, rounds);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      count += speed == expected ? 1 : 0;
-      std::printf("repetition %d: %s (%.1f s)\n", repetition + 1, to_string(speed).c_str(), seconds);
+      count += row.speed.speed == expected ? 1 : 0;
+      std::printf("repetition %d: %s, %.3f [%.3f, %.3f], p %.2g (%.1f s)\n", repetition + 1,
+                  to_string(row.speed.speed).c_str(), row.estimate.ratio, row.estimate.ci.low, row.estimate.ci.high,
+                  row.test ? row.test->p_value : 1.0, seconds);
     }
     std::printf("%d of %d judged %s\n", count, repetitions, to_string(expected).c_str());
     return count;

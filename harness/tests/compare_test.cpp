@@ -280,6 +280,30 @@ TEST_F(CompareFiles, AnAbFileResamplesItsRoundsAsPairsAndFindsAShiftTheDriftHide
   EXPECT_NE(compare_table(unpaired).find("resampling A's and B's repeats independently"), std::string::npos);
 }
 
+// A neighbour whose activity is locked to the rounds (it slows the last 15 of the 40 steps of
+// every A round by 25%) while B costs 5% more throughout. Those steps cost more than the median
+// step already, so no round's median moves and the rounds show B 5% slower; but tested step by
+// step, the 15 slowed steps say A is slower and the other 25 say B is, and the per-step test
+// finds nothing (p = 0.26). The rank test of an
+// `ab` file is therefore taken over its rounds, the same unit its interval resamples.
+TEST_F(CompareFiles, AnAbFileIsTestedOverItsRoundsSoANeighbourLockedToTheRoundsHidesNoShift) {
+  constexpr int rounds = 30;
+  constexpr int first_slowed_step = 25;
+  RunRecord a = synthetic_run("fx2d@A", "pile", 1.0, 0, rounds);
+  RunRecord b = synthetic_run("fx2d@B", "pile", 1.05, 0, rounds);
+  b.state_hashes = a.state_hashes;
+  b.final_state_hash = a.final_state_hash;
+  for (int r = 0; r < rounds; ++r)
+    for (int s = first_slowed_step; s < steps; ++s) a.wall_ms[static_cast<std::size_t>(r * steps + s)] *= 1.25;
+  const CompareReport report = compare_files(write(results_of({a, b}), "ab.h5"), std::nullopt, "", {});
+  const CompareRow& row = report.rows.at(0);
+  ASSERT_EQ(row.metric, "ms_per_step");
+  EXPECT_EQ(row.test_name, "wilcoxon-signed-rank-rounds");
+  EXPECT_GT(row.estimate.ci.low, 1.03);
+  EXPECT_LT(row.test->p_value, 1e-4);
+  EXPECT_EQ(row.speed.speed, Speed::slower);
+}
+
 TEST_F(CompareFiles, DifferentMachineOrCompilerWarnsUnlessForced) {
   ResultSet candidate = results_of({synthetic_run("fx2d", "pile", 1.0, 5)});
   candidate.provenance.cpu_model = "Other CPU";
