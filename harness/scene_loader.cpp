@@ -453,6 +453,11 @@ class ObjectReader {
     if (!object_.contains(key) || object_[key].is_null()) return std::nullopt;
     return read_number(errors_, object_[key], at(key), range);
   }
+  std::optional<int> optional_integer(std::string_view key, const Range& range) {
+    note(key);
+    if (!object_.contains(key) || object_[key].is_null()) return std::nullopt;
+    return read_integer(errors_, object_[key], at(key), range);
+  }
   Json& required(std::string_view key, const std::string& what) {
     note(key);
     if (!object_.contains(key)) errors_.missing(at(key), what);
@@ -527,6 +532,8 @@ void read_solver(ObjectReader& scene, SceneSpec& spec) {
   spec.fx2d.substeps = fx2d.integer("substeps", Fx2dSettings{}.substeps, kPasses);
   spec.fx2d.velocity_passes = fx2d.integer("velocity_passes", Fx2dSettings{}.velocity_passes, kPassesOrNone);
   spec.fx2d.sleeping = fx2d.boolean("sleeping", Fx2dSettings{}.sleeping);
+  spec.fx2d.relax_passes = fx2d.optional_integer("relax_passes", kPasses);
+  spec.fx2d.max_push_speed = fx2d.optional_number("max_push_speed", kPositive);
   fx2d.finish();
 
   ObjectReader box2d(solver.errors(), solver.slot("box2d", Json::object()), solver.at("box2d"));

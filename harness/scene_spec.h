@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,10 @@ struct Fx2dSettings {
   int substeps = 14;
   int velocity_passes = 4;
   bool sleeping = true;
+  // Unset: the engine's own default. Not written into the resolved scene when unset, so a scene
+  // that leaves them out keeps the hash it had before these keys existed.
+  std::optional<int> relax_passes;
+  std::optional<double> max_push_speed;  // m/s
 };
 
 struct Box2dSettings {

@@ -106,6 +106,8 @@ std::unique_ptr<Fx2dBenchInstance> build(const Fx2dBenchScene& scene) {
   settings.substeps = scene.fx2d.substeps;
   settings.velocity_passes = scene.fx2d.velocity_passes;
   settings.sleeping = scene.fx2d.sleeping != 0;
+  if (scene.fx2d.relax_passes > 0) settings.relax_passes = scene.fx2d.relax_passes;
+  if (scene.fx2d.max_push_speed > 0.0) settings.max_push_speed = static_cast<float>(scene.fx2d.max_push_speed);
   auto instance = std::make_unique<Fx2dBenchInstance>();
   instance->scene = std::make_unique<fx2d::FxScene>(settings);
   for (int32_t i = 0; i < scene.body_count; ++i)

@@ -396,6 +396,19 @@ TEST(Defaults, MinimalSceneResolvesEveryTopLevelDefault) {
 })");
 }
 
+// relax_passes and max_push_speed came after scenes had hashes; left out, they stay out of the
+// resolved scene (MinimalSceneResolvesEveryTopLevelDefault shows it) and the hash is unchanged.
+TEST(Defaults, Fx2dRelaxPassesAndPushSpeedAreTheEnginesUnlessGiven) {
+  const SceneSpec unset = load(scene_with(R"("size": 0)"));
+  EXPECT_FALSE(unset.fx2d.relax_passes.has_value());
+  EXPECT_FALSE(unset.fx2d.max_push_speed.has_value());
+  const SceneSpec set = load(scene_with(R"("solver": {"fx2d": {"relax_passes": 1, "max_push_speed": 0.5}})"));
+  EXPECT_EQ(set.fx2d.relax_passes, 1);
+  EXPECT_EQ(set.fx2d.max_push_speed, 0.5);
+  EXPECT_NE(set.hash, unset.hash);
+  EXPECT_NE(set.resolved_json.find(R"("relax_passes": 1)"), std::string::npos);
+}
+
 TEST(Defaults, GeneratorResolvesEveryParameter) {
   const SceneSpec scene = load(scene_with(R"("size": 1, "generators": [{"type": "circle_rows"}])"));
   EXPECT_EQ(scene.bodies[0].radius, 0.5);
@@ -591,6 +604,10 @@ TEST(Errors, OutOfRangeValuesAreRefused) {
   EXPECT_EQ(load_error(scene_with(R"("size": 2000000)")),
             "t.json:1:36: /size: expected an integer <= 1000000, got 2000000");
   EXPECT_EQ(load_error(scene_with(R"("dt": 0)")), "t.json:1:34: /dt: expected a number >= 1e-06, got 0");
+  EXPECT_EQ(load_error(scene_with(R"("solver": {"fx2d": {"relax_passes": 0}})")),
+            "t.json:1:64: /solver/fx2d/relax_passes: expected an integer >= 1, got 0");
+  EXPECT_EQ(load_error(scene_with(R"("solver": {"fx2d": {"max_push_speed": 0}})")),
+            "t.json:1:66: /solver/fx2d/max_push_speed: expected a number > 0, got 0");
   EXPECT_EQ(load_error(scene_with(R"("material": {"restitution": 1.5})")),
             "t.json:1:56: /material/restitution: expected a number from 0 to 1, got 1.5");
   EXPECT_EQ(load_error(scene_with(R"("bodies": [{"shape": {"circle": 1}, "position": [0, 1e300]}])")),
