@@ -28,6 +28,14 @@ namespace {
 
 constexpr const char* step_metric = "ms_per_step";
 constexpr const char* instructions_metric = "instructions_per_step";
+// Fewer pairs of rounds than this are too few to split into halves that say anything.
+constexpr int min_rounds_to_split = 8;
+
+std::string formatted(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
 
 // One metric of one run, repeat-major [repeats x steps] like RunRecord's own series.
 struct MetricSamples {
@@ -130,6 +138,7 @@ std::optional<CompareRow> speed_row(const RunPair& pair, const MetricSamples& a,
   // activity keeps time with the rounds can bias the per-step medians across them while leaving
   // each round's median alone (compare_test shows one that hides a 5% shift from the per-step test).
   if (row.rounds_paired) {
+    row.ratios_by_round_speed = ratios_by_round_speed(repeats_a, repeats_b);
     row.test = paired_log_ratio_test(repeats_a, repeats_b);
     row.test_name = "wilcoxon-signed-rank-rounds";
   } else if (steps_correspond(pair)) {
@@ -226,6 +235,22 @@ void warn_on_provenance(const Provenance& a, const Provenance& b, const std::str
                          "\"); pass --force to compare without this warning");
 }
 
+// Paired rounds whose faster and slower halves disagree by more than the noise band: the machine
+// ran in two states that change the builds unequally, so the verdict depends on which it was in.
+void warn_on_state_dependent_ratios(CompareReport& report) {
+  for (const CompareRow& row : report.rows) {
+    if (row.metric != step_metric || !row.ratios_by_round_speed || row.repeats_a < min_rounds_to_split) continue;
+    const RatiosByRoundSpeed& halves = *row.ratios_by_round_speed;
+    if (std::abs(halves.slowest_half - halves.fastest_half) <= report.settings.rules.noise) continue;
+    report.warnings.push_back(row.engine + " " + row.scene + " " + std::to_string(row.bodies) + ": B/A is " +
+                              formatted("%.3f", halves.fastest_half) + " over the half of the rounds that ran fastest and " +
+                              formatted("%.3f", halves.slowest_half) +
+                              " over the slowest half; the change may depend on the machine's state (a busy "
+                              "neighbouring hardware thread, say): pin with taskset and read the per-round ratios "
+                              "(harness/README, ab)");
+  }
+}
+
 // A/B, by both commands: `rounds_paired` when A and B are the two builds of one `ab` file.
 CompareReport compare_ab(const ResultSet& a, const std::string& a_label, const ResultSet& b, const std::string& b_label,
                          const CompareSettings& settings, bool rounds_paired) {
@@ -250,6 +275,7 @@ CompareReport compare_ab(const ResultSet& a, const std::string& a_label, const R
     append_rows(pair, settings, report.rows);
   }
   warn_on_one_sided_counts(one_sided_counts, pair_label, report.warnings);
+  warn_on_state_dependent_ratios(report);
   for (const auto& [key, run_b] : runs_b)
     if (!runs_a.contains(key)) report.warnings.push_back(describe(*run_b) + " is only in " + b_label);
   if (report.rows.empty())
@@ -272,12 +298,6 @@ std::string counted(int count, const std::string& singular, const std::string& p
 }
 
 // --- rendering ------------------------------------------------------------------------------------
-
-std::string formatted(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
-}
 
 std::string value_text(const std::string& metric, double value) {
   if (metric == "cycles_per_step" || metric == instructions_metric) return formatted("%.0f", value);

@@ -63,6 +63,7 @@ struct CompareRow {
   std::optional<RankTest> test;   // empty for instructions: an exact figure has nothing to test
   std::string test_name; // wilcoxon-signed-rank-rounds (ab), wilcoxon-signed-rank-paired, mann-whitney-u, or exact
   bool rounds_paired = false;  // estimate by bootstrap_paired_median_ratio: the rounds of one `ab`
+  std::optional<RatiosByRoundSpeed> ratios_by_round_speed;  // paired rounds only
   int repeats_a = 0;     // for instructions, 1: one counted loop
   int repeats_b = 0;
   SpeedVerdict speed;

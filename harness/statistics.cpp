@@ -171,6 +171,20 @@ RatioEstimate bootstrap_paired_median_ratio(std::span<const double> a, std::span
   return {median(pair_ratios), interval};
 }
 
+RatiosByRoundSpeed ratios_by_round_speed(std::span<const double> a, std::span<const double> b) {
+  std::vector<std::size_t> order(a.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::ranges::stable_sort(order, {}, [&](std::size_t k) { return a[k] + b[k]; });
+  const std::size_t half = order.size() / 2;
+  auto median_ratio = [&](std::span<const std::size_t> pairs) {
+    std::vector<double> ratios;
+    for (const std::size_t k : pairs) ratios.push_back(b[k] / a[k]);
+    return median(ratios);
+  };
+  const std::span<const std::size_t> sorted(order);
+  return {median_ratio(sorted.first(half)), median_ratio(sorted.last(half))};
+}
+
 RankTest mann_whitney_u(std::span<const double> a, std::span<const double> b) {
   if (a.empty() || b.empty()) return {};
   std::vector<double> pooled(a.begin(), a.end());

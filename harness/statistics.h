@@ -71,6 +71,19 @@ RatioEstimate bootstrap_median_ratio(std::span<const double> a, std::span<const 
 // a and b must have the same, non-zero size and be positive.
 RatioEstimate bootstrap_paired_median_ratio(std::span<const double> a, std::span<const double> b);
 
+// For paired rounds: the median of b_k / a_k over the half of the pairs whose mean time
+// (a_k + b_k) / 2 is smallest, and over the half whose mean is largest (an odd middle pair in
+// neither). Sorting by the pair's mean, not by a_k alone, keeps the halves free of the bias that
+// a noisy denominator would give them: noise in a_k moves the mean and the ratio independently.
+//   Why: a machine that switches between states (a neighbouring hardware thread busy or idle)
+// can change the two builds unequally; then the halves disagree and no single ratio describes
+// the change. a and b must have the same size, at least 2, and be positive.
+struct RatiosByRoundSpeed {
+  double fastest_half = 1.0;
+  double slowest_half = 1.0;
+};
+RatiosByRoundSpeed ratios_by_round_speed(std::span<const double> a, std::span<const double> b);
+
 struct RankTest {
   double statistic = 0.0;  // Mann-Whitney: U of a; Wilcoxon: W+, the rank sum of positive differences
   double z = 0.0;          // normal approximation, continuity-corrected; sign: b above a is positive

@@ -246,20 +246,36 @@ TEST_F(CompareFiles, ChangedStateHashIsChangedPhysicsAndUnpaired) {
   EXPECT_EQ(row.test_name, "mann-whitney-u");
 }
 
-// The two builds of one `ab` run as its file holds them (fx2d@A, fx2d@B): round r of both ran at
+// The two builds of one `ab` as its file holds them (fx2d@A, fx2d@B), `rounds` rounds each, B's
+// steps `b_scale` times A's, both on one trajectory.
+struct AbRounds {
+  RunRecord a;
+  RunRecord b;
+};
+
+AbRounds ab_rounds(double b_scale, int rounds) {
+  AbRounds ab{synthetic_run("fx2d@A", "pile", 1.0, 0, rounds), synthetic_run("fx2d@B", "pile", b_scale, 0, rounds)};
+  ab.b.state_hashes = ab.a.state_hashes;
+  ab.b.final_state_hash = ab.a.final_state_hash;
+  return ab;
+}
+
+// Every step of round `round` of `run` takes `factor` times as long.
+void scale_round(RunRecord& run, int round, double factor) {
+  for (int s = 0; s < steps; ++s) run.wall_ms[static_cast<std::size_t>(round * steps + s)] *= factor;
+}
+
+// The rounds of one `ab`: round r of both builds ran at
 // the machine's speed of the moment, a factor spread over +-15% across 30 rounds, and B costs 5%
 // more. Pairs of rounds cancel that drift; two independent files could not, so the same figures
 // judged as two `run`s are inconclusive.
 TEST_F(CompareFiles, AnAbFileResamplesItsRoundsAsPairsAndFindsAShiftTheDriftHides) {
   constexpr int rounds = 30;
-  RunRecord a = synthetic_run("fx2d@A", "pile", 1.0, 0, rounds);
-  RunRecord b = synthetic_run("fx2d@B", "pile", 1.05, 0, rounds);
-  b.state_hashes = a.state_hashes;
-  b.final_state_hash = a.final_state_hash;
+  auto [a, b] = ab_rounds(1.05, rounds);
   for (int r = 0; r < rounds; ++r) {
     const double drift = 1.0 + 0.15 * ((r * 7) % rounds - 14.5) / 14.5;
-    for (RunRecord* run : {&a, &b})
-      for (int s = 0; s < steps; ++s) run->wall_ms[static_cast<std::size_t>(r * steps + s)] *= drift;
+    scale_round(a, r, drift);
+    scale_round(b, r, drift);
   }
   const CompareReport paired = compare_files(write(results_of({a, b}), "ab.h5"), std::nullopt, "", {});
   const CompareRow& row = paired.rows.at(0);
@@ -289,10 +305,7 @@ TEST_F(CompareFiles, AnAbFileResamplesItsRoundsAsPairsAndFindsAShiftTheDriftHide
 TEST_F(CompareFiles, AnAbFileIsTestedOverItsRoundsSoANeighbourLockedToTheRoundsHidesNoShift) {
   constexpr int rounds = 30;
   constexpr int first_slowed_step = 25;
-  RunRecord a = synthetic_run("fx2d@A", "pile", 1.0, 0, rounds);
-  RunRecord b = synthetic_run("fx2d@B", "pile", 1.05, 0, rounds);
-  b.state_hashes = a.state_hashes;
-  b.final_state_hash = a.final_state_hash;
+  auto [a, b] = ab_rounds(1.05, rounds);
   for (int r = 0; r < rounds; ++r)
     for (int s = first_slowed_step; s < steps; ++s) a.wall_ms[static_cast<std::size_t>(r * steps + s)] *= 1.25;
   const CompareReport report = compare_files(write(results_of({a, b}), "ab.h5"), std::nullopt, "", {});
@@ -302,6 +315,29 @@ TEST_F(CompareFiles, AnAbFileIsTestedOverItsRoundsSoANeighbourLockedToTheRoundsH
   EXPECT_GT(row.estimate.ci.low, 1.03);
   EXPECT_LT(row.test->p_value, 1e-4);
   EXPECT_EQ(row.speed.speed, Speed::slower);
+}
+
+// The rounds of an `ab` alternate between two machine states: in one B is 15% faster, in the
+// other both builds run 20% slower and alike. The verdict stands, with a warning that says so.
+TEST_F(CompareFiles, AnAbFileWhoseRoundsSplitByMachineStateIsJudgedWithAWarning) {
+  constexpr int rounds = 30;
+  auto [a, b] = ab_rounds(1.0, rounds);
+  for (int r = 0; r < rounds; r += 2) scale_round(b, r, 0.85);
+  for (int r = 1; r < rounds; r += 2) {
+    scale_round(a, r, 1.2);
+    scale_round(b, r, 1.2);
+  }
+  const CompareReport split = compare_files(write(results_of({a, b}), "ab.h5"), std::nullopt, "", {});
+  ASSERT_EQ(split.warnings.size(), 1u);
+  EXPECT_NE(split.warnings[0].find("fx2d pile 300: B/A is 0.850 over the half of the rounds that ran fastest and "
+                                   "1.000 over the slowest half"),
+            std::string::npos)
+      << split.warnings[0];
+
+  // The same rounds with the state moving both builds alike: no warning.
+  b.wall_ms = a.wall_ms;
+  for (int r = 0; r < rounds; ++r) scale_round(b, r, 0.9);
+  EXPECT_TRUE(compare_files(write(results_of({a, b}), "ab2.h5"), std::nullopt, "", {}).warnings.empty());
 }
 
 TEST_F(CompareFiles, DifferentMachineOrCompilerWarnsUnlessForced) {

@@ -178,6 +178,25 @@ TEST(PairedBootstrap, RatioIsTheMedianOfPerPairRatiosAndTheIntervalIsDeterminist
   EXPECT_EQ(first.ci.high, second.ci.high);
 }
 
+// Rounds alternate between a free core (A 0.39 ms, B 0.33 ms: B's gain is there) and a busy one
+// (both 0.46 ms: it is not). Drift that moves both builds alike splits nothing.
+TEST(RatiosByRoundSpeed, TwoMachineStatesGiveTwoRatiosAndACommonDriftOne) {
+  std::vector<double> a, b;
+  for (int k = 0; k < 20; ++k) {
+    const bool free_core = k % 2 == 0;
+    a.push_back(free_core ? 0.39 : 0.46);
+    b.push_back(free_core ? 0.33 : 0.46);
+  }
+  const RatiosByRoundSpeed states = ratios_by_round_speed(a, b);
+  EXPECT_DOUBLE_EQ(states.fastest_half, 0.33 / 0.39);
+  EXPECT_DOUBLE_EQ(states.slowest_half, 1.0);
+
+  const DriftingRounds rounds = drifting_rounds(1.05, 30);
+  const RatiosByRoundSpeed drift = ratios_by_round_speed(rounds.a, rounds.b);
+  EXPECT_NEAR(drift.fastest_half, 1.05, 0.002);
+  EXPECT_NEAR(drift.slowest_half, 1.05, 0.002);
+}
+
 TEST(MannWhitney, MatchesAWorkedExampleWithTies) {
   // Pooled and ranked: 1(a)=1, 2(a) 2(a) 2(b)=3 each (mid-rank of 2..4), 3(b)=5, 4(b)=6, 5(a)=7,
   // 6(b)=8, 7(b)=9. Rank sum of a = 1 + 3 + 3 + 7 = 14, U_a = 14 - 4*5/2 = 4, mean 4*5/2 = 10.
