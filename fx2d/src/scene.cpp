@@ -122,36 +122,23 @@ void World::step() {
   profile = FxProfile{};
   stepping = true;
   {
-    FX2D_TIME_STAGE(profile, FxStage::broad_phase);
+    StageClock clock(profile, FxStage::broad_phase);
     update_broad_phase();
-  }
-  {
-    FX2D_TIME_STAGE(profile, FxStage::narrow_phase);
+    clock.switch_to(FxStage::narrow_phase);
     update_contacts();
-  }
-  {
-    FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
+    clock.switch_to(FxStage::velocity_passes);
     prepare_solver();
-  }
-  solve_substeps();
-  {
-    FX2D_TIME_STAGE(profile, FxStage::position_solve);
+    solve_substeps(clock);
+    clock.switch_to(FxStage::position_solve);
     solve_positions();
-  }
-  {
-    FX2D_TIME_STAGE(profile, FxStage::integration);
+    clock.switch_to(FxStage::integration);
     finalize_bodies();
-  }
-  {
-    FX2D_TIME_STAGE(profile, FxStage::bookkeeping);
+    clock.switch_to(FxStage::bookkeeping);
     solver.store_impulses(contacts);
     update_sleep();
-  }
-  stepping = false;
-  ++step_index;
-  if (step_callback) {
-    FX2D_TIME_STAGE(profile, FxStage::bookkeeping);
-    step_callback(*owner);
+    stepping = false;
+    ++step_index;
+    if (step_callback) step_callback(*owner);
   }
 #if FX2D_PROFILE
   profile.step_cycles = read_cycle_counter() - cycle_start;
@@ -196,7 +183,7 @@ void World::prepare_solver() {
   contact_batches.pack(solver.constraints, contact_graph, static_cast<std::uint32_t>(records.size()));
 }
 
-void World::solve_substeps() {
+void World::solve_substeps(StageClock& clock) {
   const float h = settings.dt / static_cast<float>(settings.substeps);
   ContactSolveParams params;
   params.inv_substep_dt = 1.0f / h;
@@ -212,52 +199,42 @@ void World::solve_substeps() {
   context.max_angular_speed = max_angular_speed(settings);
   const bool has_constraints = !constraints.empty();
   if (has_constraints) {
-    FX2D_TIME_STAGE(profile, FxStage::constraints);
+    clock.switch_to(FxStage::constraints);
     for (const auto& constraint : constraints) constraint->prepare(context);
   }
 
   // One pass over every constraint, then every contact: contacts last, so they win conflicts.
   auto velocity_pass = [&](bool use_bias) {
     if (has_constraints) {
-      FX2D_TIME_STAGE(profile, FxStage::constraints);
+      clock.switch_to(FxStage::constraints);
       for (const auto& constraint : constraints) constraint->evaluate(context, use_bias);
     }
-    FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
+    clock.switch_to(FxStage::velocity_passes);
     contact_batches.resolve_velocities(states, params, use_bias, settings.force_scalar_solver);
   };
 
   const SpeedLimits limits{settings.max_linear_speed, max_angular_speed(settings)};
-  {
-    FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
-    contact_batches.update_separations(states);
-  }
+  clock.switch_to(FxStage::velocity_passes);
+  contact_batches.update_separations(states);
   for (int substep = 0; substep < settings.substeps; ++substep) {
-    {
-      FX2D_TIME_STAGE(profile, FxStage::integration);
-      integration.integrate_velocities(states, h, limits);
-    }
+    clock.switch_to(FxStage::integration);
+    integration.integrate_velocities(states, h, limits);
     if (has_constraints) {
-      FX2D_TIME_STAGE(profile, FxStage::constraints);
+      clock.switch_to(FxStage::constraints);
       for (const auto& constraint : constraints) constraint->warm_start(context);
     }
-    {
-      FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
-      contact_batches.warm_start(states, settings.force_scalar_solver);
-    }
+    clock.switch_to(FxStage::velocity_passes);
+    contact_batches.warm_start(states, settings.force_scalar_solver);
     for (int pass = 0; pass < settings.velocity_passes; ++pass) velocity_pass(true);
-    {
-      FX2D_TIME_STAGE(profile, FxStage::integration);
-      // Clamped again here and at the step's end: the passes can push a body squeezed between
-      // immovable bodies, or held by joints that fight, past the limits the integration kept.
-      integration.integrate_positions(states, h, limits);
-    }
-    {
-      FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
-      contact_batches.update_separations(states);
-    }
+    clock.switch_to(FxStage::integration);
+    // Clamped again here and at the step's end: the passes can push a body squeezed between
+    // immovable bodies, or held by joints that fight, past the limits the integration kept.
+    integration.integrate_positions(states, h, limits);
+    clock.switch_to(FxStage::velocity_passes);
+    contact_batches.update_separations(states);
     for (int pass = 0; pass < settings.relax_passes; ++pass) velocity_pass(false);
   }
-  FX2D_TIME_STAGE(profile, FxStage::velocity_passes);
+  clock.switch_to(FxStage::velocity_passes);
   contact_batches.unpack(solver.constraints);
   solver.apply_restitution(states, settings.restitution_threshold);
 }

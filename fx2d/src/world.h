@@ -94,7 +94,7 @@ class World final {
   bool jointed(std::uint32_t a, std::uint32_t b) const;
   void update_contacts();
   void prepare_solver();
-  void solve_substeps();
+  void solve_substeps(StageClock& clock);
   void solve_positions();
   void finalize_bodies();
   void update_sleep();
