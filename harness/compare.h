@@ -61,7 +61,7 @@ struct CompareRow {
   double b = 0.0;
   RatioEstimate estimate;         // for instructions, the exact ratio: ci.low = ci.high = ratio
   std::optional<RankTest> test;   // empty for instructions: an exact figure has nothing to test
-  std::string test_name; // wilcoxon-signed-rank-rounds (ab), wilcoxon-signed-rank-paired, mann-whitney-u, or exact
+  std::string test_name; // sign-test-rounds (ab), wilcoxon-signed-rank-paired, mann-whitney-u, or exact
   bool rounds_paired = false;  // estimate by bootstrap_paired_median_ratio: the rounds of one `ab`
   std::optional<RatiosByRoundSpeed> ratios_by_round_speed;  // paired rounds only
   int repeats_a = 0;     // for instructions, 1: one counted loop

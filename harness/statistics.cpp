@@ -218,11 +218,23 @@ RankTest wilcoxon_signed_rank(std::span<const double> differences) {
   return normal_approximation(w_plus, n * (n + 1.0) / 4.0, variance, 1.0);
 }
 
-RankTest paired_log_ratio_test(std::span<const double> a, std::span<const double> b) {
+RankTest paired_sign_test(std::span<const double> a, std::span<const double> b) {
+  double larger_in_b = 0.0;
+  double unequal = 0.0;
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
+    if (a[i] == b[i]) continue;
+    unequal += 1.0;
+    larger_in_b += b[i] > a[i] ? 1.0 : 0.0;
+  }
+  return normal_approximation(larger_in_b, unequal / 2.0, unequal / 4.0, 1.0);
+}
+
+RankTest paired_log_ratio_test(std::span<const double> a_step_medians, std::span<const double> b_step_medians) {
   std::vector<double> log_ratios;
-  const std::size_t pairs = std::min(a.size(), b.size());
-  for (std::size_t i = 0; i < pairs; ++i)
-    if (a[i] > 0.0 && b[i] > 0.0) log_ratios.push_back(std::log(b[i]) - std::log(a[i]));
+  const std::size_t steps = std::min(a_step_medians.size(), b_step_medians.size());
+  for (std::size_t step = 0; step < steps; ++step)
+    if (a_step_medians[step] > 0.0 && b_step_medians[step] > 0.0)
+      log_ratios.push_back(std::log(b_step_medians[step]) - std::log(a_step_medians[step]));
   return wilcoxon_signed_rank(log_ratios);
 }
 

@@ -99,11 +99,16 @@ RankTest mann_whitney_u(std::span<const double> a, std::span<const double> b);
 // them, continuity correction 1/2. No non-zero difference gives p = 1.
 RankTest wilcoxon_signed_rank(std::span<const double> differences);
 
-// The paired test: Wilcoxon signed-rank on log(b_i / a_i), for figures a_i and b_i that belong
-// together. For two runs that stepped the same deterministic trajectory, so that step i of A and
-// step i of B did the same work, they are the medians of step i across each run's repeats; for the
-// rounds of one `ab`, round i's median step of A and of B, which ran back to back (compare.cpp).
-// Pairs where either figure is not positive carry no ratio and are left out.
+// Sign test that paired figures are as often larger in b as in a: the number of pairs with
+// b_i > a_i (equal pairs dropped) against half of the rest, normal approximation with continuity
+// correction; z > 0 when b is larger more often. The test of a median: each pair counts once,
+// however far a disturbance moved it.
+RankTest paired_sign_test(std::span<const double> a, std::span<const double> b);
+
+// The paired test for two runs that stepped the same deterministic trajectory, so that step i of
+// A and step i of B did the same work: Wilcoxon signed-rank on log(b_i / a_i), where a_i and b_i
+// are the medians of step i across each run's repeats. Steps where either median is not positive
+// carry no ratio and are left out.
 //   Why this test: pairing removes the largest source of variance, the step-to-step change in
 //   work as the scene evolves; the log makes the differences of cheap and costly steps alike,
 //   since timing noise is proportional to the time taken; the per-step median across repeats
@@ -111,7 +116,7 @@ RankTest wilcoxon_signed_rank(std::span<const double> differences);
 //   repeats from swaying the result as it would a mean. Neighbouring steps are not independent
 //   (interference lasts longer than a step), so this p-value is optimistic; the verdict therefore
 //   also demands that the bootstrap interval, taken over whole repeats, clears the noise band.
-RankTest paired_log_ratio_test(std::span<const double> a, std::span<const double> b);
+RankTest paired_log_ratio_test(std::span<const double> a_step_medians, std::span<const double> b_step_medians);
 
 enum class Speed { faster, slower, no_change, inconclusive };
 

@@ -214,6 +214,18 @@ TEST(MannWhitney, SamplesWithNoSpreadGivePOne) {
   EXPECT_EQ(test.z, 0.0);
 }
 
+TEST(SignTest, CountsPairsLargerInBAndDropsEqualOnes) {
+  // 11 pairs, one equal: n = 10, 8 larger in b. Mean 5, variance 10/4; z = (3 - 1/2) / sqrt(2.5).
+  const std::vector<double> a = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+  const std::vector<double> b = {2, 3, 1.5, 9, 1.1, 4, 2, 8, 0.5, 0.9, 1};
+  const RankTest test = paired_sign_test(a, b);
+  EXPECT_EQ(test.statistic, 8.0);
+  EXPECT_NEAR(test.z, 2.5 / std::sqrt(2.5), 1e-12);
+  EXPECT_NEAR(test.p_value, 0.113846, 1e-6);  // erfc(z / sqrt 2)
+  EXPECT_NEAR(paired_sign_test(b, a).z, -test.z, 1e-12);
+  EXPECT_EQ(paired_sign_test(a, a).p_value, 1.0);
+}
+
 TEST(Wilcoxon, MatchesAWorkedExampleWithAZeroAndATie) {
   // The zero is dropped: n = 6, |d| = 1 2 3 3 4 5 ranked 1 2 3.5 3.5 5 6; W+ = 1 + 3.5 + 3.5 + 5 = 13.
   // Mean 6*7/4 = 10.5; variance 6*7*13/24 - (8 - 2)/48 = 22.625; z = (2.5 - 0.5) / sqrt(22.625).
