@@ -1,5 +1,5 @@
 // The statistics behind `fx2d-bench compare`: medians, a bootstrap interval for a ratio of
-// medians, two rank tests, and the two-stage verdict in the manner of criterion.rs (a change
+// medians, two rank tests and a sign test, and the two-stage verdict in the manner of criterion.rs (a change
 // counts only when it is significant AND its whole interval lies outside a noise band).
 //
 // Invariants: pure functions of their arguments, no I/O and no global state; every result is a
