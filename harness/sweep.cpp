@@ -42,13 +42,15 @@ namespace {
 
 inline constexpr const char* sweep_schema = "fx2d-bench.sweep/1";
 
-// One accuracy knob: an integer under /solver/<engine>/<key> of the scene format.
+// One accuracy knob: an integer under /solver/<engine>/<key> of the scene format. An axis with no
+// values is not swept: its knob keeps the scene's own value and is left out of every point.
 struct KnobAxis {
   std::string engine;
   std::string key;
   std::string flag;
   int min_value = 1;  // the knob's lower bound in the scene format
   std::vector<int> values;
+  std::optional<int> when_unset;  // an optional key's value when the scene leaves it out
 };
 
 struct SweepOptions {
@@ -57,11 +59,12 @@ struct SweepOptions {
   // Grids kept small enough that the default sweep of a canonical scene at its middle size takes
   // a few minutes on two cores; see harness/README.md for the measured times.
   std::vector<KnobAxis> axes{
-      {"fx2d", "substeps", "--fx2d-substeps", 1, {1, 2, 4, 8, 14, 32}},
-      {"fx2d", "velocity_passes", "--fx2d-passes", 0, {1, 2, 4, 8}},
-      {"box2d", "velocity_iterations", "--box2d-velocity", 1, {1, 2, 4, 8, 16, 32}},
-      {"box2d", "position_iterations", "--box2d-position", 0, {1, 3, 8}},
-      {"ode", "iterations", "--ode-iterations", 1, {5, 10, 20, 40, 80}},
+      {"fx2d", "substeps", "--fx2d-substeps", 1, {1, 2, 4, 8, 14, 32}, {}},
+      {"fx2d", "velocity_passes", "--fx2d-passes", 0, {1, 2, 4, 8}, {}},
+      {"box2d", "velocity_iterations", "--box2d-velocity", 1, {1, 2, 4, 8, 16, 32}, {}},
+      {"box2d", "position_iterations", "--box2d-position", 0, {1, 3, 8}, {}},
+      {"ode", "iterations", "--ode-iterations", 1, {5, 10, 20, 40, 80}, {}},
+      {"fx2d", "relax_passes", "--fx2d-relax", 1, {}, Fx2dSettings::engine_relax_passes},
   };
   std::vector<double> dts;  // empty: the scene's own
   int repeats = 3;
@@ -96,12 +99,17 @@ std::string metric_name(PrimaryMetric metric) {
   return metric == PrimaryMetric::displacement ? "displacement" : "penetration";
 }
 
-// The scene's own value of each knob of `engine`: what the resolved scene holds under /solver.
+bool swept_on(const KnobAxis& axis, const std::string& engine) { return axis.engine == engine && !axis.values.empty(); }
+
+// The scene's own value of each swept knob of `engine`: what the resolved scene holds under
+// /solver, or the engine's default for an optional key the scene leaves out.
 Knobs default_knobs(const SceneSpec& scene, const std::vector<KnobAxis>& axes, const std::string& engine) {
-  const auto resolved = nlohmann::json::parse(scene.resolved_json);
+  const auto settings = nlohmann::json::parse(scene.resolved_json).at("solver").at(engine);
   Knobs knobs;
-  for (const KnobAxis& axis : axes)
-    if (axis.engine == engine) knobs.emplace_back(axis.key, resolved.at("solver").at(engine).at(axis.key).get<int>());
+  for (const KnobAxis& axis : axes) {
+    if (!swept_on(axis, engine)) continue;
+    knobs.emplace_back(axis.key, settings.contains(axis.key) ? settings.at(axis.key).get<int>() : axis.when_unset.value());
+  }
   return knobs;
 }
 
@@ -111,7 +119,7 @@ std::vector<GridPoint> grid_of(const std::vector<KnobAxis>& axes, const std::str
                                const std::vector<double>& dts, double scene_dt) {
   std::vector<Knobs> combinations{{}};
   for (const KnobAxis& axis : axes) {
-    if (axis.engine != engine) continue;
+    if (!swept_on(axis, engine)) continue;
     std::vector<Knobs> extended;
     for (const Knobs& partial : combinations)
       for (int value : axis.values) {
@@ -134,13 +142,25 @@ std::string knobs_text(const Knobs& knobs) {
   return text;
 }
 
+// One engine's grid on one scene, and the scene's own value of each of its swept knobs.
+struct EngineGrid {
+  const EngineInfo* engine;
+  Knobs defaults;
+  std::vector<GridPoint> points;
+};
+
 // The scene as `base_options` loads it, with the point's settings applied after the user's --set.
+// Only knobs that differ from the scene's own are set, so the default point is the scene itself,
+// hash included, even where the scene leaves an optional knob out.
 SceneSpec load_point(const SceneOptions& base_options, const std::string& scene, const SceneSpec& base,
-                     const std::string& engine, const GridPoint& point) {
+                     const EngineGrid& grid, const GridPoint& point) {
   SceneOptions options = base_options;
   options.scenes = {scene};
-  for (const auto& [key, value] : point.knobs)
-    options.sets.push_back("/solver/" + engine + "/" + key + "=" + std::to_string(value));
+  for (std::size_t k = 0; k < point.knobs.size(); ++k) {
+    const auto& [key, value] = point.knobs[k];
+    if (value != grid.defaults[k].second)
+      options.sets.push_back("/solver/" + grid.engine->name + "/" + key + "=" + std::to_string(value));
+  }
   if (point.dt != base.dt) {
     const long steps = std::max(1L, std::lround(base.steps * base.dt / point.dt));
     options.sets.push_back("/dt=" + nlohmann::json(point.dt).dump());
@@ -192,7 +212,7 @@ struct Sweep {
 struct PlannedScene {
   std::string argument;
   SceneSpec base;
-  std::vector<std::pair<const EngineInfo*, std::vector<GridPoint>>> grids;
+  std::vector<EngineGrid> grids;
 };
 
 std::vector<PlannedScene> plan_sweep(const SweepOptions& options) {
@@ -202,8 +222,9 @@ std::vector<PlannedScene> plan_sweep(const SweepOptions& options) {
     one.scenes = {argument};
     PlannedScene scene{argument, one.load().front(), {}};
     for (const EngineInfo* engine : options.engines.selected()) {
-      const Knobs defaults = default_knobs(scene.base, options.axes, engine->name);
-      scene.grids.emplace_back(engine, grid_of(options.axes, engine->name, defaults, options.dts, scene.base.dt));
+      Knobs defaults = default_knobs(scene.base, options.axes, engine->name);
+      std::vector<GridPoint> points = grid_of(options.axes, engine->name, defaults, options.dts, scene.base.dt);
+      scene.grids.push_back({engine, std::move(defaults), std::move(points)});
     }
     plan.push_back(std::move(scene));
   }
@@ -228,18 +249,18 @@ Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
   const std::vector<PlannedScene> plan = plan_sweep(options);
   std::size_t total = 0;
   for (const PlannedScene& scene : plan)
-    for (const auto& [engine, grid] : scene.grids) total += grid.size();
+    for (const EngineGrid& grid : scene.grids) total += grid.points.size();
 
   Sweep sweep;
   sweep.results.provenance = collect_provenance(command_line, measure_counter_ghz());
   int group = 0;
   for (const PlannedScene& scene : plan) {
-    for (const auto& [engine, grid] : scene.grids) {
-      for (const GridPoint& point : grid) {
-        const SceneSpec spec = load_point(options.scenes, scene.argument, scene.base, engine->name, point);
-        show_progress(sweep.points.size(), total, engine->name, spec, point);
+    for (const EngineGrid& grid : scene.grids) {
+      for (const GridPoint& point : grid.points) {
+        const SceneSpec spec = load_point(options.scenes, scene.argument, scene.base, grid, point);
+        show_progress(sweep.points.size(), total, grid.engine->name, spec, point);
         const RunPlan run_plan{options.repeats, 0, spec.steps, 10};
-        sweep.results.runs.push_back(measure_engine(spec, *engine, run_plan));
+        sweep.results.runs.push_back(measure_engine(spec, *grid.engine, run_plan));
         sweep.results.scenes.push_back({spec.name, spec.hash, spec.resolved_json, spec.source_path,
                                         metric_name(spec.primary_metric)});
         sweep.points.push_back(figures_of(sweep.results.runs.back(), sweep.results.runs.size() - 1, spec, point));
@@ -414,11 +435,12 @@ void register_sweep(CLI::App& app, const std::string& command_line) {
   options->scenes.add_to(*sweep, "pile");
   options->engines.add_to(*sweep);
   for (KnobAxis& axis : options->axes) {
-    sweep->add_option(axis.flag, axis.values, axis.engine + " " + axis.key + " values to try, comma-separated")
-        ->delimiter(',')
-        ->allow_extra_args(false)
-        ->check(CLI::Range(axis.min_value, 1000))
-        ->capture_default_str();
+    const std::string what = axis.engine + " " + axis.key + " values to try, comma-separated";
+    CLI::Option* option = sweep->add_option(axis.flag, axis.values, axis.values.empty() ? what + " (default: not swept)" : what)
+                              ->delimiter(',')
+                              ->allow_extra_args(false)
+                              ->check(CLI::Range(axis.min_value, 1000));
+    if (!axis.values.empty()) option->capture_default_str();
   }
   sweep->add_option("--dt", options->dts, "Time steps to try, s, comma-separated (default: the scene's)")
       ->delimiter(',')

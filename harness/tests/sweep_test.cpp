@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 namespace fxbench {
 namespace {
@@ -92,6 +93,57 @@ TEST(SweepCommand, TwoPointGridGetsTheDefaultAddedAndConsistentFronts) {
   EXPECT_GT(H5Aexists(file, "schema"), 0);
   H5Fclose(file);
   fs::remove(out);
+}
+
+std::vector<int> int_column(hid_t file, const char* dataset_path) {
+  std::vector<int> values(static_cast<std::size_t>(rows_of(file, dataset_path)));
+  const hid_t dataset = H5Dopen2(file, dataset_path, H5P_DEFAULT);
+  H5Dread(dataset, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  H5Dclose(dataset);
+  return values;
+}
+
+// relax_passes is an optional key that scenes leave out. Swept, the point at Fx2D's default is the
+// scene's own: marked default, no extra point, and the same scene hash as a sweep that leaves the
+// knob alone. Three boxes sunk into each other: one relaxation pass launches them (issue 2), so
+// the knob visibly reaches the engine.
+TEST(SweepCommand, SweepsRelaxationPassesWhenAskedAndKeepsTheSceneItselfAsTheDefault) {
+  const fs::path directory = fs::temp_directory_path() / ("sweep_test_relax_" + std::to_string(getpid()));
+  fs::create_directories(directory);
+  const fs::path scene = directory / "overlapping_boxes.json";
+  std::FILE* file = std::fopen(scene.string().c_str(), "w");
+  std::fputs(R"({"schema": "fx2d.scene/1", "steps": 120, "primary_metric": "displacement",
+    "generators": [{"type": "ground", "top": 0, "half_width": 5}],
+    "bodies": [{"shape": {"box": [0.5, 0.5]}, "position": [0, 0.2]},
+               {"shape": {"box": [0.5, 0.5]}, "position": [0, 0.9]},
+               {"shape": {"box": [0.5, 0.5]}, "position": [0, 1.6]}]})",
+             file);
+  std::fclose(file);
+  const fs::path out = directory / "sweep.h5";
+  const std::string grid = "sweep " + scene.string() + " --engine fx2d --fx2d-substeps 14 --fx2d-passes 4 --repeats 1 --json";
+  const Outcome relaxed = run_bench(grid + " --fx2d-relax 1,4 --out " + out.string());
+  const Outcome plain = run_bench(grid);
+  ASSERT_EQ(relaxed.exit_code, 0) << relaxed.out;
+  ASSERT_EQ(plain.exit_code, 0) << plain.out;
+
+  const auto points = nlohmann::json::parse(relaxed.out)["points"];
+  ASSERT_EQ(points.size(), 2u);
+  EXPECT_EQ(points[0]["settings"]["relax_passes"], 1);
+  EXPECT_EQ(points[1]["settings"]["relax_passes"], 4);
+  EXPECT_FALSE(points[0]["default"].get<bool>());
+  EXPECT_TRUE(points[1]["default"].get<bool>());
+  const auto plain_default = nlohmann::json::parse(plain.out)["points"][0];
+  EXPECT_FALSE(plain_default["settings"].contains("relax_passes"));
+  EXPECT_EQ(points[1]["scene_hash"], plain_default["scene_hash"]);
+  EXPECT_NE(points[0]["scene_hash"], plain_default["scene_hash"]);
+  EXPECT_EQ(points[1]["primary_error"], plain_default["primary_error"]);
+  EXPECT_GT(points[0]["primary_error"].get<double>(), 1.5 * points[1]["primary_error"].get<double>());
+
+  const hid_t h5 = H5Fopen(out.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(h5, 0);
+  EXPECT_EQ(int_column(h5, "/sweep/fx2d_relax_passes"), (std::vector<int>{1, 4}));
+  H5Fclose(h5);
+  fs::remove_all(directory);
 }
 
 TEST(SweepCommand, RefusesAnExistingOutWithoutForce) {
