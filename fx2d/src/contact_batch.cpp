@@ -10,34 +10,57 @@ namespace {
 [[gnu::always_inline]] inline float max_of(float a, float b) { return a < b ? b : a; }
 [[gnu::always_inline]] inline float min_of(float a, float b) { return b < a ? b : a; }
 
-[[gnu::always_inline]] inline void apply_lane_impulse(LaneBody& a, LaneBody& b, float ma, float ia, float mb, float ib, float rax, float ray,
-                        float rbx, float rby, float px, float py) {
-  a.vx -= ma * px;
-  a.vy -= ma * py;
-  a.w -= ia * (rax * py - ray * px);
-  b.vx += mb * px;
-  b.vy += mb * py;
-  b.w += ib * (rbx * py - rby * px);
+// The relative velocity of a point's two anchors along a direction (dx, dy), given the anchors'
+// lever arms about it.
+[[gnu::always_inline]] inline float relative_speed(const LaneBody& a, const LaneBody& b, float dx, float dy, float arm_a,
+                                                   float arm_b) {
+  return ((b.vx - a.vx) * dx + (b.vy - a.vy) * dy) + (b.w * arm_b - a.w * arm_a);
 }
 
-// Relative velocity of the two anchors, along (dx, dy).
-[[gnu::always_inline]] inline float lane_relative_speed(const LaneBody& a, const LaneBody& b, float rax, float ray, float rbx, float rby, float dx,
-                          float dy) {
-  const float vx = (b.vx - b.w * rby) - (a.vx - a.w * ray);
-  const float vy = (b.vy + b.w * rbx) - (a.vy + a.w * rax);
-  return vx * dx + vy * dy;
+// An impulse `impulse` along a direction: A loses and B gains, per unit, the velocity (ax, ay),
+// (bx, by) and the spin sa, sb.
+[[gnu::always_inline]] inline void apply_impulse(LaneBody& a, LaneBody& b, float impulse, float ax, float ay, float sa,
+                                                 float bx, float by, float sb) {
+  a.vx -= impulse * ax;
+  a.vy -= impulse * ay;
+  a.w -= impulse * sa;
+  b.vx += impulse * bx;
+  b.vy += impulse * by;
+  b.w += impulse * sb;
+}
+
+// The normal and tangent rows of point `i` of one lane: directions, lever arms and what a unit
+// impulse does to each body. The tangent is right_perp(normal) = (ny, -nx), so its velocity
+// changes are the normal's turned a quarter.
+struct PointRows {
+  float nx, ny;
+  float mass_ax, mass_ay, mass_bx, mass_by;
+};
+
+[[gnu::always_inline]] inline PointRows rows_of(const FxContactBatch& __restrict k, int lane) {
+  return {k.normal_x[lane], k.normal_y[lane], k.mass_normal_ax[lane], k.mass_normal_ay[lane], k.mass_normal_bx[lane],
+          k.mass_normal_by[lane]};
+}
+
+[[gnu::always_inline]] inline void apply_normal(const FxContactBatch& __restrict k, const PointRows& r, int i, int lane,
+                                                LaneBody& a, LaneBody& b, float impulse) {
+  apply_impulse(a, b, impulse, r.mass_ax, r.mass_ay, k.spin_normal_a[i][lane], r.mass_bx, r.mass_by,
+                k.spin_normal_b[i][lane]);
+}
+
+[[gnu::always_inline]] inline void apply_tangent(const FxContactBatch& __restrict k, const PointRows& r, int i, int lane,
+                                                 LaneBody& a, LaneBody& b, float impulse) {
+  apply_impulse(a, b, impulse, r.mass_ay, -r.mass_ax, k.spin_tangent_a[i][lane], r.mass_by, -r.mass_bx,
+                k.spin_tangent_b[i][lane]);
 }
 
 template <int Points>
 [[gnu::always_inline]] inline void warm_start_lane(FxContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
                                                    const ContactSolveParams&) {
-  const float nx = k.normal_x[lane], ny = k.normal_y[lane];
+  const PointRows r = rows_of(k, lane);
   for (int i = 0; i < Points; ++i) {
-    const float n = k.normal_impulse[i][lane], t = k.tangent_impulse[i][lane];
-    // tangent = right_perp(normal) = (ny, -nx)
-    apply_lane_impulse(a, b, k.inv_mass_a[lane], k.inv_inertia_a[lane], k.inv_mass_b[lane], k.inv_inertia_b[lane],
-                       k.anchor_ax[i][lane], k.anchor_ay[i][lane], k.anchor_bx[i][lane], k.anchor_by[i][lane],
-                       n * nx + t * ny, n * ny - t * nx);
+    apply_normal(k, r, i, lane, a, b, k.normal_impulse[i][lane]);
+    apply_tangent(k, r, i, lane, a, b, k.tangent_impulse[i][lane]);
   }
 }
 
@@ -47,15 +70,11 @@ template <int Points>
 template <int Points, bool UseBias>
 [[gnu::always_inline]] inline void solve_lane(FxContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
                                               const ContactSolveParams& p) {
-  const float nx = k.normal_x[lane], ny = k.normal_y[lane];
-  const float ma = k.inv_mass_a[lane], ia = k.inv_inertia_a[lane];
-  const float mb = k.inv_mass_b[lane], ib = k.inv_inertia_b[lane];
+  const PointRows r = rows_of(k, lane);
   // Read unconditionally, so the selects below need no conditional loads.
   const float bias_rate = p.softness.bias_rate, soft_mass_scale = p.softness.mass_scale;
   const float soft_impulse_scale = p.softness.impulse_scale, max_push = p.max_push_speed, inv_h = p.inv_substep_dt;
   for (int i = 0; i < Points; ++i) {
-    const float rax = k.anchor_ax[i][lane], ray = k.anchor_ay[i][lane];
-    const float rbx = k.anchor_bx[i][lane], rby = k.anchor_by[i][lane];
     const float separation = k.separation[i][lane];
     const bool speculative = separation > 0.0f;
     const bool soft = UseBias && !speculative;
@@ -64,26 +83,24 @@ template <int Points, bool UseBias>
     const float mass_scale = soft ? soft_mass_scale : 1.0f;
     const float impulse_scale = soft ? soft_impulse_scale : 0.0f;
 
-    const float vn = lane_relative_speed(a, b, rax, ray, rbx, rby, nx, ny);
+    const float vn = relative_speed(a, b, r.nx, r.ny, k.arm_normal_a[i][lane], k.arm_normal_b[i][lane]);
     const float old_impulse = k.normal_impulse[i][lane];
     const float delta = -k.normal_mass[i][lane] * mass_scale * (vn + bias) - impulse_scale * old_impulse;
     const float accumulated = max_of(old_impulse + delta, 0.0f);
     const float applied = accumulated - old_impulse;
     k.normal_impulse[i][lane] = accumulated;
     k.max_normal_impulse[i][lane] = max_of(k.max_normal_impulse[i][lane], applied);
-    apply_lane_impulse(a, b, ma, ia, mb, ib, rax, ray, rbx, rby, applied * nx, applied * ny);
+    apply_normal(k, r, i, lane, a, b, applied);
   }
   const float friction = k.friction[lane];
   for (int i = 0; i < Points; ++i) {
-    const float rax = k.anchor_ax[i][lane], ray = k.anchor_ay[i][lane];
-    const float rbx = k.anchor_bx[i][lane], rby = k.anchor_by[i][lane];
-    const float vt = lane_relative_speed(a, b, rax, ray, rbx, rby, ny, -nx);
+    const float vt = relative_speed(a, b, r.ny, -r.nx, k.arm_tangent_a[i][lane], k.arm_tangent_b[i][lane]);
     const float limit = friction * k.normal_impulse[i][lane];
     const float old_impulse = k.tangent_impulse[i][lane];
     const float accumulated = min_of(max_of(old_impulse - k.tangent_mass[i][lane] * vt, -limit), limit);
     const float applied = accumulated - old_impulse;
     k.tangent_impulse[i][lane] = accumulated;
-    apply_lane_impulse(a, b, ma, ia, mb, ib, rax, ray, rbx, rby, applied * ny, -applied * nx);
+    apply_tangent(k, r, i, lane, a, b, applied);
   }
 }
 
@@ -289,10 +306,10 @@ void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, st
       k.body_b[lane] = c.body_b;
       k.normal_x[lane] = c.normal.x;
       k.normal_y[lane] = c.normal.y;
-      k.inv_mass_a[lane] = c.inv_mass_a;
-      k.inv_inertia_a[lane] = c.inv_inertia_a;
-      k.inv_mass_b[lane] = c.inv_mass_b;
-      k.inv_inertia_b[lane] = c.inv_inertia_b;
+      k.mass_normal_ax[lane] = c.inv_mass_a * c.normal.x;
+      k.mass_normal_ay[lane] = c.inv_mass_a * c.normal.y;
+      k.mass_normal_bx[lane] = c.inv_mass_b * c.normal.x;
+      k.mass_normal_by[lane] = c.inv_mass_b * c.normal.y;
       k.friction[lane] = c.friction;
       k.constraint[lane] = index;
       for (int i = 0; i < points; ++i) {
@@ -307,6 +324,15 @@ void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, st
         k.normal_impulse[i][lane] = cp.normal_impulse;
         k.tangent_impulse[i][lane] = cp.tangent_impulse;
         k.max_normal_impulse[i][lane] = 0.0f;
+        const FxVec2f tangent = right_perp(c.normal);
+        k.arm_normal_a[i][lane] = cross(cp.anchor_a, c.normal);
+        k.arm_normal_b[i][lane] = cross(cp.anchor_b, c.normal);
+        k.arm_tangent_a[i][lane] = cross(cp.anchor_a, tangent);
+        k.arm_tangent_b[i][lane] = cross(cp.anchor_b, tangent);
+        k.spin_normal_a[i][lane] = c.inv_inertia_a * k.arm_normal_a[i][lane];
+        k.spin_normal_b[i][lane] = c.inv_inertia_b * k.arm_normal_b[i][lane];
+        k.spin_tangent_a[i][lane] = c.inv_inertia_a * k.arm_tangent_a[i][lane];
+        k.spin_tangent_b[i][lane] = c.inv_inertia_b * k.arm_tangent_b[i][lane];
       }
       ++lane;
     }

@@ -9,6 +9,10 @@
 // - every lane of a batch has the same point count (one- and two-point manifolds are packed in
 //   separate runs), and unused lanes point at the padding body with zero masses, so they change
 //   nothing;
+// - each row's Jacobian (lever arms, inverse mass and inertia times the direction) is worked out
+//   once per step by pack(), so a pass only multiplies it by the bodies' velocities: the rows of
+//   a two-point contact depend on each other, and every operation taken out of them shortens
+//   the chain that bounds a pass;
 // - the arithmetic of one lane is one function (contact_batch.cpp) used by both the batched and
 //   the scalar path, and lanes are independent, so the two agree to the bit and the result does
 //   not depend on the lane count.
@@ -38,16 +42,29 @@ struct alignas(32) FxContactBatch {
   std::uint32_t body_b[fx_lanes];
   float normal_x[fx_lanes];
   float normal_y[fx_lanes];
-  float inv_mass_a[fx_lanes];
-  float inv_inertia_a[fx_lanes];
-  float inv_mass_b[fx_lanes];
-  float inv_inertia_b[fx_lanes];
+  // Each body's inverse mass times the normal: an impulse along the normal changes its velocity
+  // by this much per unit (along the tangent, by the same numbers turned a quarter).
+  float mass_normal_ax[fx_lanes];
+  float mass_normal_ay[fx_lanes];
+  float mass_normal_bx[fx_lanes];
+  float mass_normal_by[fx_lanes];
   float friction[fx_lanes];
   // Per manifold point: [point][lane].
   float anchor_ax[2][fx_lanes];
   float anchor_ay[2][fx_lanes];
   float anchor_bx[2][fx_lanes];
   float anchor_by[2][fx_lanes];
+  // The anchors' lever arms about the normal and the tangent, cross(anchor, direction): how a
+  // body's spin moves the point along that direction. Constant for the step, like the anchors.
+  float arm_normal_a[2][fx_lanes];
+  float arm_normal_b[2][fx_lanes];
+  float arm_tangent_a[2][fx_lanes];
+  float arm_tangent_b[2][fx_lanes];
+  // The lever arms times the body's inverse inertia: the spin a unit impulse there gives it.
+  float spin_normal_a[2][fx_lanes];
+  float spin_normal_b[2][fx_lanes];
+  float spin_tangent_a[2][fx_lanes];
+  float spin_tangent_b[2][fx_lanes];
   float adjusted_separation[2][fx_lanes];
   float separation[2][fx_lanes];  // at the poses of the last position integration (update_separations)
   float normal_mass[2][fx_lanes];
