@@ -86,9 +86,10 @@ template <int Points, bool UseBias>
     const float vn = relative_speed(a, b, r.nx, r.ny, k.arm_normal_a[i][lane], k.arm_normal_b[i][lane]);
     const float old_impulse = k.normal_impulse[i][lane];
     const float delta = -k.normal_mass[i][lane] * mass_scale * (vn + bias) - impulse_scale * old_impulse;
-    const float accumulated = max_of(old_impulse + delta, 0.0f);
-    const float applied = accumulated - old_impulse;
-    k.normal_impulse[i][lane] = accumulated;
+    // The clamp of the accumulated impulse at zero, put on the increment: no add and subtract
+    // between this row's velocity and the next row's.
+    const float applied = max_of(delta, -old_impulse);
+    k.normal_impulse[i][lane] = old_impulse + applied;
     k.max_normal_impulse[i][lane] = max_of(k.max_normal_impulse[i][lane], applied);
     apply_normal(k, r, i, lane, a, b, applied);
   }
@@ -97,9 +98,9 @@ template <int Points, bool UseBias>
     const float vt = relative_speed(a, b, r.ny, -r.nx, k.arm_tangent_a[i][lane], k.arm_tangent_b[i][lane]);
     const float limit = friction * k.normal_impulse[i][lane];
     const float old_impulse = k.tangent_impulse[i][lane];
-    const float accumulated = min_of(max_of(old_impulse - k.tangent_mass[i][lane] * vt, -limit), limit);
-    const float applied = accumulated - old_impulse;
-    k.tangent_impulse[i][lane] = accumulated;
+    // The friction cone |accumulated| <= limit, put on the increment likewise.
+    const float applied = min_of(max_of(-k.tangent_mass[i][lane] * vt, -limit - old_impulse), limit - old_impulse);
+    k.tangent_impulse[i][lane] = old_impulse + applied;
     apply_tangent(k, r, i, lane, a, b, applied);
   }
 }
