@@ -83,9 +83,13 @@ template <int Points, bool UseBias>
     const float mass_scale = soft ? soft_mass_scale : 1.0f;
     const float impulse_scale = soft ? soft_impulse_scale : 0.0f;
 
-    const float vn = relative_speed(a, b, r.nx, r.ny, k.arm_normal_a[i][lane], k.arm_normal_b[i][lane]);
+    // Everything but the relative speed is known before the previous row ends, so the speed
+    // enters the increment with one multiply and one add.
     const float old_impulse = k.normal_impulse[i][lane];
-    const float delta = -k.normal_mass[i][lane] * mass_scale * (vn + bias) - impulse_scale * old_impulse;
+    const float speed_to_impulse = -k.normal_mass[i][lane] * mass_scale;
+    const float offset = speed_to_impulse * bias - impulse_scale * old_impulse;
+    const float vn = relative_speed(a, b, r.nx, r.ny, k.arm_normal_a[i][lane], k.arm_normal_b[i][lane]);
+    const float delta = vn * speed_to_impulse + offset;
     // The clamp of the accumulated impulse at zero, put on the increment: no add and subtract
     // between this row's velocity and the next row's.
     const float applied = max_of(delta, -old_impulse);
