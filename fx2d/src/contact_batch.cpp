@@ -67,13 +67,25 @@ template <int Points>
 // One soft sequential-impulse pass over one contact: normal rows first (speculative points stop
 // the approach at the surface; overlaps are pushed apart softly, at most max_push_speed), then
 // friction bounded by each point's normal impulse. Branch-free so that lanes vectorise.
+//
+// Every row's relative speed is taken once, at the velocities the contact starts from; each
+// row's impulse then reaches the later rows through their coupling (the change of one row's
+// speed per unit impulse on another, worked out by pack()), and the bodies once at the end. That
+// is the same Gauss-Seidel sweep, but between two rows lie one multiply and one add, not a
+// velocity update and a dot product.
 template <int Points, bool UseBias>
 [[gnu::always_inline]] inline void solve_lane(FxContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
                                               const ContactSolveParams& p) {
   const PointRows r = rows_of(k, lane);
+  float normal_speed[Points], tangent_speed[Points];
+  for (int i = 0; i < Points; ++i) {
+    normal_speed[i] = relative_speed(a, b, r.nx, r.ny, k.arm_normal_a[i][lane], k.arm_normal_b[i][lane]);
+    tangent_speed[i] = relative_speed(a, b, r.ny, -r.nx, k.arm_tangent_a[i][lane], k.arm_tangent_b[i][lane]);
+  }
   // Read unconditionally, so the selects below need no conditional loads.
   const float bias_rate = p.softness.bias_rate, soft_mass_scale = p.softness.mass_scale;
   const float soft_impulse_scale = p.softness.impulse_scale, max_push = p.max_push_speed, inv_h = p.inv_substep_dt;
+  float normal_applied[Points], tangent_applied[Points];
   for (int i = 0; i < Points; ++i) {
     const float separation = k.separation[i][lane];
     const bool speculative = separation > 0.0f;
@@ -83,29 +95,32 @@ template <int Points, bool UseBias>
     const float mass_scale = soft ? soft_mass_scale : 1.0f;
     const float impulse_scale = soft ? soft_impulse_scale : 0.0f;
 
-    // Everything but the relative speed is known before the previous row ends, so the speed
-    // enters the increment with one multiply and one add.
     const float old_impulse = k.normal_impulse[i][lane];
     const float speed_to_impulse = -k.normal_mass[i][lane] * mass_scale;
     const float offset = speed_to_impulse * bias - impulse_scale * old_impulse;
-    const float vn = relative_speed(a, b, r.nx, r.ny, k.arm_normal_a[i][lane], k.arm_normal_b[i][lane]);
-    const float delta = vn * speed_to_impulse + offset;
-    // The clamp of the accumulated impulse at zero, put on the increment: no add and subtract
-    // between this row's velocity and the next row's.
-    const float applied = max_of(delta, -old_impulse);
+    float vn = normal_speed[i];
+    if (i == 1) vn += normal_applied[0] * k.normal1_from_normal0[lane];
+    // The clamp of the accumulated impulse at zero, put on the increment.
+    const float applied = max_of(vn * speed_to_impulse + offset, -old_impulse);
     k.normal_impulse[i][lane] = old_impulse + applied;
     k.max_normal_impulse[i][lane] = max_of(k.max_normal_impulse[i][lane], applied);
-    apply_normal(k, r, i, lane, a, b, applied);
+    normal_applied[i] = applied;
   }
   const float friction = k.friction[lane];
   for (int i = 0; i < Points; ++i) {
-    const float vt = relative_speed(a, b, r.ny, -r.nx, k.arm_tangent_a[i][lane], k.arm_tangent_b[i][lane]);
+    float vt = tangent_speed[i];
+    for (int j = 0; j < Points; ++j) vt += normal_applied[j] * k.tangent_from_normal[i][j][lane];
+    if (i == 1) vt += tangent_applied[0] * k.tangent1_from_tangent0[lane];
     const float limit = friction * k.normal_impulse[i][lane];
     const float old_impulse = k.tangent_impulse[i][lane];
     // The friction cone |accumulated| <= limit, put on the increment likewise.
     const float applied = min_of(max_of(-k.tangent_mass[i][lane] * vt, -limit - old_impulse), limit - old_impulse);
     k.tangent_impulse[i][lane] = old_impulse + applied;
-    apply_tangent(k, r, i, lane, a, b, applied);
+    tangent_applied[i] = applied;
+  }
+  for (int i = 0; i < Points; ++i) {
+    apply_normal(k, r, i, lane, a, b, normal_applied[i]);
+    apply_tangent(k, r, i, lane, a, b, tangent_applied[i]);
   }
 }
 
@@ -289,6 +304,30 @@ FX2D_LANE_KERNEL void solve_runs_relaxed(std::span<const BatchRun> runs, FxConta
 
 }  // namespace
 
+namespace {
+
+// How much row s's relative speed changes per unit impulse on row r: J_s M^-1 J_r^T, that is
+// (m_a + m_b) (d_s . d_r) + arm_a(s) spin_a(r) + arm_b(s) spin_b(r). Normal and tangent are
+// perpendicular, so the mass term appears only between rows of one direction.
+void add_couplings(FxContactBatch& k, int lane, int points, float mass_sum) {
+  auto arms = [&](const float (&arm_a)[2][fx_lanes], int s, const float (&arm_b)[2][fx_lanes],
+                  const float (&spin_a)[2][fx_lanes], int r, const float (&spin_b)[2][fx_lanes]) {
+    return arm_a[s][lane] * spin_a[r][lane] + arm_b[s][lane] * spin_b[r][lane];
+  };
+  for (int s = 0; s < points; ++s) {
+    for (int r = 0; r < points; ++r) {
+      k.tangent_from_normal[s][r][lane] = arms(k.arm_tangent_a, s, k.arm_tangent_b, k.spin_normal_a, r, k.spin_normal_b);
+    }
+  }
+  if (points == 2) {
+    k.normal1_from_normal0[lane] = mass_sum + arms(k.arm_normal_a, 1, k.arm_normal_b, k.spin_normal_a, 0, k.spin_normal_b);
+    k.tangent1_from_tangent0[lane] =
+        mass_sum + arms(k.arm_tangent_a, 1, k.arm_tangent_b, k.spin_tangent_a, 0, k.spin_tangent_b);
+  }
+}
+
+}  // namespace
+
 void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, std::span<const int> members, bool serial,
                               std::uint32_t padding_body) {
   for (int points = 1; points <= 2; ++points) {
@@ -339,6 +378,7 @@ void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, st
         k.spin_tangent_a[i][lane] = c.inv_inertia_a * k.arm_tangent_a[i][lane];
         k.spin_tangent_b[i][lane] = c.inv_inertia_b * k.arm_tangent_b[i][lane];
       }
+      add_couplings(k, lane, points, c.inv_mass_a + c.inv_mass_b);
       ++lane;
     }
     if (run.count > 0) runs_.push_back(run);

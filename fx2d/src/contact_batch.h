@@ -65,6 +65,11 @@ struct alignas(32) FxContactBatch {
   float spin_normal_b[2][fx_lanes];
   float spin_tangent_a[2][fx_lanes];
   float spin_tangent_b[2][fx_lanes];
+  // Couplings between the rows of one contact: the change of a later row's relative speed per
+  // unit impulse on an earlier one (solve_lane). [tangent point][normal point] for the second.
+  float normal1_from_normal0[fx_lanes];
+  float tangent_from_normal[2][2][fx_lanes];
+  float tangent1_from_tangent0[fx_lanes];
   float adjusted_separation[2][fx_lanes];
   float separation[2][fx_lanes];  // at the poses of the last position integration (update_separations)
   float normal_mass[2][fx_lanes];
