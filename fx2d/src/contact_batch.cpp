@@ -29,8 +29,8 @@ namespace {
   b.w += impulse * sb;
 }
 
-// The normal and tangent rows of point `i` of one lane: directions, lever arms and what a unit
-// impulse does to each body. The tangent is right_perp(normal) = (ny, -nx), so its velocity
+// What the rows of one lane's points share: the normal, and the velocity a unit impulse along it
+// takes from A and gives to B. The tangent is right_perp(normal) = (ny, -nx), so its velocity
 // changes are the normal's turned a quarter.
 struct PointRows {
   float nx, ny;
