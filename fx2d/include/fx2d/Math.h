@@ -53,13 +53,17 @@ inline FxVec2f normalize(FxVec2f v) {
   return {inv * v.x, inv * v.y};
 }
 
+// std::atan2(y, x) to within a unit in the last place, the same to the bit on every platform
+// (libm's is not): what reads an angle back out of a rotation.
+float fx_atan2(float y, float x);
+
 // A rotation stored as its cosine and sine. Invariant: c*c + s*s == 1 to within rounding.
 struct FxRot {
   float c = 1.0f;
   float s = 0.0f;
 
   static FxRot from_angle(float radians) { return {std::cos(radians), std::sin(radians)}; }
-  float angle() const { return std::atan2(s, c); }
+  float angle() const { return fx_atan2(s, c); }
   friend constexpr bool operator==(FxRot a, FxRot b) = default;
 };
 
