@@ -15,15 +15,39 @@ namespace {
 constexpr float base_speculative_distance = 0.02f;
 constexpr float max_speculative_distance = 2.0f;
 
+float speculative_distance(float dt, float closing_speed) {
+  return std::min(base_speculative_distance + dt * closing_speed, max_speculative_distance);
+}
+
+// Drops the points farther apart than `distance`, keeping the others in order.
+void keep_points_within(Manifold& manifold, float distance) {
+  int kept = 0;
+  for (int i = 0; i < manifold.point_count; ++i) {
+    if (manifold.points[i].separation < distance) manifold.points[kept++] = manifold.points[i];
+  }
+  manifold.point_count = kept;
+}
+
 }  // namespace
 
-float World::speculative_distance(std::uint32_t a, std::uint32_t b) const {
+// Along a normal n from A to B, a pair closes at up to its relative speed, or at A's or B's own
+// speed towards the other: either may stop against a third body mid-step while the other keeps
+// going. A column falling in unison has no relative speed, yet its lowest body lands first and
+// the next one closes on it at full speed. Spins add their speed at the shapes' extents.
+PairMotion World::pair_motion(std::uint32_t a, std::uint32_t b) const {
   const BodySim& sa = sims[a];
   const BodySim& sb = sims[b];
-  const float closing_speed = length(sb.linear_velocity - sa.linear_velocity) +
-                              std::fabs(sa.angular_velocity) * records[a].shape.extent() +
-                              std::fabs(sb.angular_velocity) * records[b].shape.extent();
-  return std::min(base_speculative_distance + settings.dt * closing_speed, max_speculative_distance);
+  return {sa.linear_velocity, sb.linear_velocity, length(sb.linear_velocity - sa.linear_velocity),
+          std::fabs(sa.angular_velocity) * records[a].shape.extent() +
+              std::fabs(sb.angular_velocity) * records[b].shape.extent()};
+}
+
+float PairMotion::fastest_closing() const {
+  return std::max({relative_speed, length(velocity_a), length(velocity_b)}) + spin_speed;
+}
+
+float PairMotion::closing_along(FxVec2f normal) const {
+  return std::max({relative_speed, dot(velocity_a, normal), -dot(velocity_b, normal)}) + spin_speed;
 }
 
 void World::update_contacts() {
@@ -44,8 +68,11 @@ void World::update_contacts() {
     }
     const BodySim& sa = sims[a];
     const BodySim& sb = sims[b];
+    // Collided at the widest margin any normal could need, then trimmed to the one it found.
+    const PairMotion motion = pair_motion(a, b);
     collide(ra.shape, FxTransform{{}, sa.rotation}, rb.shape, FxTransform{origin_offset(a, b), sb.rotation},
-            speculative_distance(a, b), manifold);
+            speculative_distance(settings.dt, motion.fastest_closing()), manifold);
+    keep_points_within(manifold, speculative_distance(settings.dt, motion.closing_along(manifold.normal)));
     const bool was_touching = contact.touching;
     contacts.update_manifold(contact, manifold);
     if (contact.touching && !was_touching) {

@@ -68,6 +68,15 @@ struct Snapshot {
   BodySim sim;
 };
 
+// How fast two bodies could close within the step, for their speculative margin (narrow_phase.cpp).
+struct PairMotion {
+  FxVec2f velocity_a, velocity_b;
+  float relative_speed;  // |v_b - v_a|
+  float spin_speed;      // what the spins add at the shapes' extents
+  float fastest_closing() const;                 // along any direction
+  float closing_along(FxVec2f normal) const;     // along `normal`, from A towards B
+};
+
 class World final {
  public:
   explicit World(const FxSceneSettings& settings);
@@ -99,7 +108,7 @@ class World final {
   void finalize_bodies();
   void update_sleep();
 
-  float speculative_distance(std::uint32_t a, std::uint32_t b) const;
+  PairMotion pair_motion(std::uint32_t a, std::uint32_t b) const;
   // b's origin minus a's, to twice float precision (the carries included).
   FxVec2f origin_offset(std::uint32_t a, std::uint32_t b) const;
   FxVec2f center_offset(std::uint32_t a, std::uint32_t b) const;
