@@ -236,14 +236,12 @@ template <int Point>
 template <int Points>
 [[gnu::always_inline]] inline void update_batch_separations(FxContactBatch& __restrict k,
                                                             const FxBodyState* __restrict states) {
+  LaneColumns a, b;
+  gather_columns<pose_row>(states, k.body_a, a);
+  gather_columns<pose_row>(states, k.body_b, b);
   LanePoses q;
-  for (int lane = 0; lane < fx_lanes; ++lane) {
-    const FxBodyState& a = states[k.body_a[lane]];
-    const FxBodyState& b = states[k.body_b[lane]];
-    q.dpx[lane] = b.delta_position.x - a.delta_position.x, q.dpy[lane] = b.delta_position.y - a.delta_position.y;
-    q.aqc[lane] = a.delta_rotation.c, q.aqs[lane] = a.delta_rotation.s;
-    q.bqc[lane] = b.delta_rotation.c, q.bqs[lane] = b.delta_rotation.s;
-  }
+  to_lanes(b.c0 - a.c0, q.dpx), to_lanes(b.c1 - a.c1, q.dpy);
+  to_lanes(a.c2, q.aqc), to_lanes(a.c3, q.aqs), to_lanes(b.c2, q.bqc), to_lanes(b.c3, q.bqs);
   update_point_separations<0>(k, q);
   if constexpr (Points == 2) update_point_separations<1>(k, q);
 }
