@@ -44,14 +44,14 @@ struct PointRows {
 
 [[gnu::always_inline]] inline void apply_normal(const FxContactBatch& __restrict k, const PointRows& r, int i, int lane,
                                                 LaneBody& a, LaneBody& b, float impulse) {
-  apply_impulse(a, b, impulse, r.mass_ax, r.mass_ay, k.spin_normal_a[i][lane], r.mass_bx, r.mass_by,
-                k.spin_normal_b[i][lane]);
+  apply_impulse(a, b, impulse, r.mass_ax, r.mass_ay, k.point[i].spin_normal_a[lane], r.mass_bx, r.mass_by,
+                k.point[i].spin_normal_b[lane]);
 }
 
 [[gnu::always_inline]] inline void apply_tangent(const FxContactBatch& __restrict k, const PointRows& r, int i, int lane,
                                                  LaneBody& a, LaneBody& b, float impulse) {
-  apply_impulse(a, b, impulse, r.mass_ay, -r.mass_ax, k.spin_tangent_a[i][lane], r.mass_by, -r.mass_bx,
-                k.spin_tangent_b[i][lane]);
+  apply_impulse(a, b, impulse, r.mass_ay, -r.mass_ax, k.point[i].spin_tangent_a[lane], r.mass_by, -r.mass_bx,
+                k.point[i].spin_tangent_b[lane]);
 }
 
 template <int Points>
@@ -59,8 +59,8 @@ template <int Points>
                                                    const ContactSolveParams&) {
   const PointRows r = rows_of(k, lane);
   for (int i = 0; i < Points; ++i) {
-    apply_normal(k, r, i, lane, a, b, k.normal_impulse[i][lane]);
-    apply_tangent(k, r, i, lane, a, b, k.tangent_impulse[i][lane]);
+    apply_normal(k, r, i, lane, a, b, k.point[i].normal_impulse[lane]);
+    apply_tangent(k, r, i, lane, a, b, k.point[i].tangent_impulse[lane]);
   }
 }
 
@@ -79,15 +79,17 @@ template <int Points, bool UseBias>
   const PointRows r = rows_of(k, lane);
   float normal_speed[Points], tangent_speed[Points];
   for (int i = 0; i < Points; ++i) {
-    normal_speed[i] = relative_speed(a, b, r.nx, r.ny, k.arm_normal_a[i][lane], k.arm_normal_b[i][lane]);
-    tangent_speed[i] = relative_speed(a, b, r.ny, -r.nx, k.arm_tangent_a[i][lane], k.arm_tangent_b[i][lane]);
+    normal_speed[i] =
+        relative_speed(a, b, r.nx, r.ny, k.point[i].arm_normal_a[lane], k.point[i].arm_normal_b[lane]);
+    tangent_speed[i] =
+        relative_speed(a, b, r.ny, -r.nx, k.point[i].arm_tangent_a[lane], k.point[i].arm_tangent_b[lane]);
   }
   // Read unconditionally, so the selects below need no conditional loads.
   const float bias_rate = p.softness.bias_rate, soft_mass_scale = p.softness.mass_scale;
   const float soft_impulse_scale = p.softness.impulse_scale, max_push = p.max_push_speed, inv_h = p.inv_substep_dt;
   float normal_applied[Points], tangent_applied[Points];
   for (int i = 0; i < Points; ++i) {
-    const float separation = k.separation[i][lane];
+    const float separation = k.point[i].separation[lane];
     const bool speculative = separation > 0.0f;
     const bool soft = UseBias && !speculative;
     const float push = max_of(bias_rate * separation, -max_push);
@@ -95,27 +97,28 @@ template <int Points, bool UseBias>
     const float mass_scale = soft ? soft_mass_scale : 1.0f;
     const float impulse_scale = soft ? soft_impulse_scale : 0.0f;
 
-    const float old_impulse = k.normal_impulse[i][lane];
-    const float speed_to_impulse = -k.normal_mass[i][lane] * mass_scale;
+    const float old_impulse = k.point[i].normal_impulse[lane];
+    const float speed_to_impulse = -k.point[i].normal_mass[lane] * mass_scale;
     const float offset = speed_to_impulse * bias - impulse_scale * old_impulse;
     float vn = normal_speed[i];
     if (i == 1) vn += normal_applied[0] * k.normal1_from_normal0[lane];
     // The clamp of the accumulated impulse at zero, put on the increment.
     const float applied = max_of(vn * speed_to_impulse + offset, -old_impulse);
-    k.normal_impulse[i][lane] = old_impulse + applied;
-    k.max_normal_impulse[i][lane] = max_of(k.max_normal_impulse[i][lane], applied);
+    k.point[i].normal_impulse[lane] = old_impulse + applied;
+    k.point[i].max_normal_impulse[lane] = max_of(k.point[i].max_normal_impulse[lane], applied);
     normal_applied[i] = applied;
   }
   const float friction = k.friction[lane];
   for (int i = 0; i < Points; ++i) {
     float vt = tangent_speed[i];
-    for (int j = 0; j < Points; ++j) vt += normal_applied[j] * k.tangent_from_normal[i][j][lane];
+    for (int j = 0; j < Points; ++j) vt += normal_applied[j] * k.point[i].tangent_from_normal[j][lane];
     if (i == 1) vt += tangent_applied[0] * k.tangent1_from_tangent0[lane];
-    const float limit = friction * k.normal_impulse[i][lane];
-    const float old_impulse = k.tangent_impulse[i][lane];
+    const float limit = friction * k.point[i].normal_impulse[lane];
+    const float old_impulse = k.point[i].tangent_impulse[lane];
     // The friction cone |accumulated| <= limit, put on the increment likewise.
-    const float applied = min_of(max_of(-k.tangent_mass[i][lane] * vt, -limit - old_impulse), limit - old_impulse);
-    k.tangent_impulse[i][lane] = old_impulse + applied;
+    const float applied =
+        min_of(max_of(-k.point[i].tangent_mass[lane] * vt, -limit - old_impulse), limit - old_impulse);
+    k.point[i].tangent_impulse[lane] = old_impulse + applied;
     tangent_applied[i] = applied;
   }
   for (int i = 0; i < Points; ++i) {
@@ -223,11 +226,12 @@ template <int Point>
   // (not unrolled first: a fully unrolled loop is left to the weaker straight-line vectoriser)
 #pragma GCC unroll 1
   for (int lane = 0; lane < fx_lanes; ++lane) {
-    const float rax = k.anchor_ax[Point][lane], ray = k.anchor_ay[Point][lane];
-    const float rbx = k.anchor_bx[Point][lane], rby = k.anchor_by[Point][lane];
+    const float rax = k.point[Point].anchor_ax[lane], ray = k.point[Point].anchor_ay[lane];
+    const float rbx = k.point[Point].anchor_bx[lane], rby = k.point[Point].anchor_by[lane];
     const float gap_x = q.dpx[lane] + ((q.bqc[lane] * rbx - q.bqs[lane] * rby) - (q.aqc[lane] * rax - q.aqs[lane] * ray));
     const float gap_y = q.dpy[lane] + ((q.bqs[lane] * rbx + q.bqc[lane] * rby) - (q.aqs[lane] * rax + q.aqc[lane] * ray));
-    k.separation[Point][lane] = gap_x * k.normal_x[lane] + gap_y * k.normal_y[lane] + k.adjusted_separation[Point][lane];
+    k.point[Point].separation[lane] =
+        gap_x * k.normal_x[lane] + gap_y * k.normal_y[lane] + k.point[Point].adjusted_separation[lane];
   }
 }
 
@@ -307,20 +311,26 @@ namespace {
 // How much row s's relative speed changes per unit impulse on row r: J_s M^-1 J_r^T, that is
 // (m_a + m_b) (d_s . d_r) + arm_a(s) spin_a(r) + arm_b(s) spin_b(r). Normal and tangent are
 // perpendicular, so the mass term appears only between rows of one direction.
+// Row s's lever arms times row r's spins, arm_a(s) spin_a(r) + arm_b(s) spin_b(r), in one lane.
+float arms_times_spins(const float* arm_a, const float* arm_b, const float* spin_a, const float* spin_b,
+                       int lane) {
+  return arm_a[lane] * spin_a[lane] + arm_b[lane] * spin_b[lane];
+}
+
 void add_couplings(FxContactBatch& k, int lane, int points, float mass_sum) {
-  auto arms = [&](const float (&arm_a)[2][fx_lanes], int s, const float (&arm_b)[2][fx_lanes],
-                  const float (&spin_a)[2][fx_lanes], int r, const float (&spin_b)[2][fx_lanes]) {
-    return arm_a[s][lane] * spin_a[r][lane] + arm_b[s][lane] * spin_b[r][lane];
-  };
+  FxPointColumns* p = k.point;
   for (int s = 0; s < points; ++s) {
     for (int r = 0; r < points; ++r) {
-      k.tangent_from_normal[s][r][lane] = arms(k.arm_tangent_a, s, k.arm_tangent_b, k.spin_normal_a, r, k.spin_normal_b);
+      p[s].tangent_from_normal[r][lane] = arms_times_spins(p[s].arm_tangent_a, p[s].arm_tangent_b,
+                                                           p[r].spin_normal_a, p[r].spin_normal_b, lane);
     }
   }
   if (points == 2) {
-    k.normal1_from_normal0[lane] = mass_sum + arms(k.arm_normal_a, 1, k.arm_normal_b, k.spin_normal_a, 0, k.spin_normal_b);
+    k.normal1_from_normal0[lane] = mass_sum + arms_times_spins(p[1].arm_normal_a, p[1].arm_normal_b,
+                                                               p[0].spin_normal_a, p[0].spin_normal_b, lane);
     k.tangent1_from_tangent0[lane] =
-        mass_sum + arms(k.arm_tangent_a, 1, k.arm_tangent_b, k.spin_tangent_a, 0, k.spin_tangent_b);
+        mass_sum + arms_times_spins(p[1].arm_tangent_a, p[1].arm_tangent_b, p[0].spin_tangent_a,
+                                    p[0].spin_tangent_b, lane);
   }
 }
 
@@ -356,25 +366,25 @@ void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, st
       k.constraint[lane] = index;
       for (int i = 0; i < points; ++i) {
         const ContactPointConstraint& cp = c.points[i];
-        k.anchor_ax[i][lane] = cp.anchor_a.x;
-        k.anchor_ay[i][lane] = cp.anchor_a.y;
-        k.anchor_bx[i][lane] = cp.anchor_b.x;
-        k.anchor_by[i][lane] = cp.anchor_b.y;
-        k.adjusted_separation[i][lane] = cp.adjusted_separation;
-        k.normal_mass[i][lane] = cp.normal_mass;
-        k.tangent_mass[i][lane] = cp.tangent_mass;
-        k.normal_impulse[i][lane] = cp.normal_impulse;
-        k.tangent_impulse[i][lane] = cp.tangent_impulse;
-        k.max_normal_impulse[i][lane] = 0.0f;
+        k.point[i].anchor_ax[lane] = cp.anchor_a.x;
+        k.point[i].anchor_ay[lane] = cp.anchor_a.y;
+        k.point[i].anchor_bx[lane] = cp.anchor_b.x;
+        k.point[i].anchor_by[lane] = cp.anchor_b.y;
+        k.point[i].adjusted_separation[lane] = cp.adjusted_separation;
+        k.point[i].normal_mass[lane] = cp.normal_mass;
+        k.point[i].tangent_mass[lane] = cp.tangent_mass;
+        k.point[i].normal_impulse[lane] = cp.normal_impulse;
+        k.point[i].tangent_impulse[lane] = cp.tangent_impulse;
+        k.point[i].max_normal_impulse[lane] = 0.0f;
         const FxVec2f tangent = right_perp(c.normal);
-        k.arm_normal_a[i][lane] = cross(cp.anchor_a, c.normal);
-        k.arm_normal_b[i][lane] = cross(cp.anchor_b, c.normal);
-        k.arm_tangent_a[i][lane] = cross(cp.anchor_a, tangent);
-        k.arm_tangent_b[i][lane] = cross(cp.anchor_b, tangent);
-        k.spin_normal_a[i][lane] = c.inv_inertia_a * k.arm_normal_a[i][lane];
-        k.spin_normal_b[i][lane] = c.inv_inertia_b * k.arm_normal_b[i][lane];
-        k.spin_tangent_a[i][lane] = c.inv_inertia_a * k.arm_tangent_a[i][lane];
-        k.spin_tangent_b[i][lane] = c.inv_inertia_b * k.arm_tangent_b[i][lane];
+        k.point[i].arm_normal_a[lane] = cross(cp.anchor_a, c.normal);
+        k.point[i].arm_normal_b[lane] = cross(cp.anchor_b, c.normal);
+        k.point[i].arm_tangent_a[lane] = cross(cp.anchor_a, tangent);
+        k.point[i].arm_tangent_b[lane] = cross(cp.anchor_b, tangent);
+        k.point[i].spin_normal_a[lane] = c.inv_inertia_a * k.point[i].arm_normal_a[lane];
+        k.point[i].spin_normal_b[lane] = c.inv_inertia_b * k.point[i].arm_normal_b[lane];
+        k.point[i].spin_tangent_a[lane] = c.inv_inertia_a * k.point[i].arm_tangent_a[lane];
+        k.point[i].spin_tangent_b[lane] = c.inv_inertia_b * k.point[i].arm_tangent_b[lane];
       }
       add_couplings(k, lane, points, c.inv_mass_a + c.inv_mass_b);
       ++lane;
@@ -424,9 +434,9 @@ void ContactBatches::unpack(std::span<ContactConstraint> constraints) const {
         if (k.constraint[lane] < 0) continue;
         ContactConstraint& c = constraints[k.constraint[lane]];
         for (int p = 0; p < run.point_count; ++p) {
-          c.points[p].normal_impulse = k.normal_impulse[p][lane];
-          c.points[p].tangent_impulse = k.tangent_impulse[p][lane];
-          c.points[p].max_normal_impulse = k.max_normal_impulse[p][lane];
+          c.points[p].normal_impulse = k.point[p].normal_impulse[lane];
+          c.points[p].tangent_impulse = k.point[p].tangent_impulse[lane];
+          c.points[p].max_normal_impulse = k.point[p].max_normal_impulse[lane];
         }
       }
     }

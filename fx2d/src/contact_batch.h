@@ -37,6 +37,36 @@ struct FxContactBatch;
 // The arithmetic of one lane: one contact of a batch in one pass.
 using LaneFn = void (*)(FxContactBatch& batch, int lane, LaneBody& a, LaneBody& b, const ContactSolveParams& params);
 
+// One manifold point of every lane of a batch. What the velocity passes read comes first; the
+// anchors, read once per substep to update the separation, last.
+struct FxPointColumns {
+  // The anchors' lever arms about the normal and the tangent, cross(anchor, direction): how a
+  // body's spin moves the point along that direction. Constant for the step, like the anchors.
+  float arm_normal_a[fx_lanes];
+  float arm_normal_b[fx_lanes];
+  float arm_tangent_a[fx_lanes];
+  float arm_tangent_b[fx_lanes];
+  // The lever arms times the body's inverse inertia: the spin a unit impulse there gives it.
+  float spin_normal_a[fx_lanes];
+  float spin_normal_b[fx_lanes];
+  float spin_tangent_a[fx_lanes];
+  float spin_tangent_b[fx_lanes];
+  // The change of this point's tangent row's relative speed per unit impulse on each point's
+  // normal row (solve_lane).
+  float tangent_from_normal[2][fx_lanes];
+  float separation[fx_lanes];  // at the poses of the last position integration (update_separations)
+  float normal_mass[fx_lanes];
+  float tangent_mass[fx_lanes];
+  float normal_impulse[fx_lanes];
+  float tangent_impulse[fx_lanes];
+  float max_normal_impulse[fx_lanes];
+  float anchor_ax[fx_lanes];
+  float anchor_ay[fx_lanes];
+  float anchor_bx[fx_lanes];
+  float anchor_by[fx_lanes];
+  float adjusted_separation[fx_lanes];
+};
+
 struct alignas(32) FxContactBatch {
   std::uint32_t body_a[fx_lanes];
   std::uint32_t body_b[fx_lanes];
@@ -49,34 +79,13 @@ struct alignas(32) FxContactBatch {
   float mass_normal_bx[fx_lanes];
   float mass_normal_by[fx_lanes];
   float friction[fx_lanes];
-  // Per manifold point: [point][lane].
-  float anchor_ax[2][fx_lanes];
-  float anchor_ay[2][fx_lanes];
-  float anchor_bx[2][fx_lanes];
-  float anchor_by[2][fx_lanes];
-  // The anchors' lever arms about the normal and the tangent, cross(anchor, direction): how a
-  // body's spin moves the point along that direction. Constant for the step, like the anchors.
-  float arm_normal_a[2][fx_lanes];
-  float arm_normal_b[2][fx_lanes];
-  float arm_tangent_a[2][fx_lanes];
-  float arm_tangent_b[2][fx_lanes];
-  // The lever arms times the body's inverse inertia: the spin a unit impulse there gives it.
-  float spin_normal_a[2][fx_lanes];
-  float spin_normal_b[2][fx_lanes];
-  float spin_tangent_a[2][fx_lanes];
-  float spin_tangent_b[2][fx_lanes];
-  // Couplings between the rows of one contact: the change of a later row's relative speed per
-  // unit impulse on an earlier one (solve_lane). [tangent point][normal point] for the second.
+  // Couplings between the rows of a two-point contact: the change of the second row's relative
+  // speed per unit impulse on the first (solve_lane).
   float normal1_from_normal0[fx_lanes];
-  float tangent_from_normal[2][2][fx_lanes];
   float tangent1_from_tangent0[fx_lanes];
-  float adjusted_separation[2][fx_lanes];
-  float separation[2][fx_lanes];  // at the poses of the last position integration (update_separations)
-  float normal_mass[2][fx_lanes];
-  float tangent_mass[2][fx_lanes];
-  float normal_impulse[2][fx_lanes];
-  float tangent_impulse[2][fx_lanes];
-  float max_normal_impulse[2][fx_lanes];
+  // Per manifold point, each point's columns together: a one-point batch never touches the
+  // second point's, so its passes read half the cache lines.
+  FxPointColumns point[2];
   int constraint[fx_lanes];  // index into the step's constraints, -1 for padding
 };
 
