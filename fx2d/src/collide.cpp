@@ -35,22 +35,13 @@ constexpr std::uint32_t polygon_feature_id(bool reference_is_b, int reference_ed
 // id serves every feature and the impulse carries over as the circle rolls past a vertex.
 constexpr std::uint32_t circle_feature_id = 0;
 
-// A polygon's vertices and normals in some frame, on the stack.
+// A polygon's vertices and normals in one frame: A's as the shape stores them, or B's placed in A's
+// frame on the caller's stack.
 struct PolygonView {
-  std::array<FxVec2f, FxShape::max_vertices> vertices;
-  std::array<FxVec2f, FxShape::max_vertices> normals;
-  int count = 0;
+  const FxVec2f* vertices;
+  const FxVec2f* normals;
+  int count;
 };
-
-PolygonView place(const FxShape& polygon, const FxTransform& xf) {
-  PolygonView view{};
-  view.count = polygon.vertex_count();
-  for (int i = 0; i < view.count; ++i) {
-    view.vertices[i] = transform_point(xf, polygon.vertices()[i]);
-    view.normals[i] = rotate(xf.q, polygon.normals()[i]);
-  }
-  return view;
-}
 
 struct FaceSeparation {
   int edge = 0;
@@ -174,12 +165,17 @@ void collide_polygon_circle(const FxShape& a, const FxTransform& xf_a, const FxS
 void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
                       float speculative_distance, Manifold& out) {
   out = Manifold{};
-  // Work in A's frame: A as given, B placed relative to it.
-  const PolygonView poly_a = place(a, FxTransform{});
-  const PolygonView poly_b = place(b, inv_mul(xf_a, xf_b));
-
-  const FaceSeparation face_a = max_face_separation(poly_a, poly_b);
+  // Work in A's frame: A's vertices and normals as stored, B's placed relative to it. B's normals
+  // only once A's faces have not separated the two, as they do for most pairs the broad phase finds.
+  const FxTransform b_in_a = inv_mul(xf_a, xf_b);
+  const int count_b = b.vertex_count();
+  std::array<FxVec2f, FxShape::max_vertices> b_vertices, b_normals;
+  for (int i = 0; i < count_b; ++i) b_vertices[i] = transform_point(b_in_a, b.vertices()[i]);
+  const PolygonView poly_a{a.vertices().data(), a.normals().data(), a.vertex_count()};
+  const FaceSeparation face_a = max_face_separation(poly_a, PolygonView{b_vertices.data(), nullptr, count_b});
   if (!(face_a.separation < speculative_distance)) return;
+  for (int i = 0; i < count_b; ++i) b_normals[i] = rotate(b_in_a.q, b.normals()[i]);
+  const PolygonView poly_b{b_vertices.data(), b_normals.data(), count_b};
   const FaceSeparation face_b = max_face_separation(poly_b, poly_a);
   if (!(face_b.separation < speculative_distance)) return;
 
