@@ -11,13 +11,16 @@
 // the node costs no more than the bound of either child, else follows the cheaper child. A full
 // branch-and-bound search found slightly better siblings but visited most of the tree when many
 // fat boxes overlap (3000 boxes falling in step: a third of the engine's instructions). Ties go
-// to the first child, so the same operations build the same tree.
+// to the first child, so the same operations build the same tree. rebuild() replaces all internal
+// nodes at once, for steps in which most leaves move: the broad phase sorts the pairs it finds, so
+// no result depends on the tree's shape.
 #include "aabb_tree.h"
 
 #include <bit>
 
 #include <algorithm>
 #include <cassert>
+#include <limits>
 
 namespace fx2d::detail {
 
@@ -44,6 +47,7 @@ void AabbTree::reserve(int proxies) {
   // level, and rotations keep the height within a small factor of that.
   const auto depth = static_cast<std::size_t>(8 + 4 * std::bit_width(static_cast<unsigned>(proxies)));
   stack_.reserve(2 * depth);
+  leaves_.reserve(static_cast<std::size_t>(proxies));
 }
 
 int AabbTree::create_proxy(const FxAABB& fat_box, std::uint32_t user_data) {
@@ -67,6 +71,66 @@ void AabbTree::move_proxy(int proxy, const FxAABB& fat_box) {
   remove_leaf(proxy);
   nodes_[proxy].box = fat_box;
   insert_leaf(proxy);
+}
+
+void AabbTree::set_fat_box(int proxy, const FxAABB& fat_box) {
+  assert(nodes_[proxy].is_leaf() && nodes_[proxy].height == 0);
+  nodes_[proxy].box = fat_box;
+}
+
+void AabbTree::rebuild() {
+  leaves_.clear();
+  for (int id = 0; id < int(nodes_.size()); ++id) {
+    if (nodes_[id].height == 0) {
+      leaves_.push_back(id);
+    } else if (nodes_[id].height > 0) {
+      free_node(id);
+    }
+  }
+  root_ = leaves_.empty() ? null_node : build_subtree(0, int(leaves_.size()));
+  if (root_ != null_node) nodes_[root_].parent_or_next = null_node;
+}
+
+namespace {
+
+// A box's centre along one axis, doubled; NaN sorts last so that the order stays total.
+float centre_key(const FxAABB& box, bool along_x) {
+  const float key = along_x ? box.lower.x + box.upper.x : box.lower.y + box.upper.y;
+  return key == key ? key : std::numeric_limits<float>::infinity();
+}
+
+}  // namespace
+
+// The subtree over leaves_[first, last): halves of equal size (within one), so it is balanced.
+// Leaves are ordered by centre, then by id, a total order: each half is the same set whatever
+// order the leaves arrived in, so the same boxes build the same tree.
+int AabbTree::build_subtree(int first, int last) {
+  if (last - first == 1) return leaves_[first];
+  FxVec2f lowest{std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
+  FxVec2f highest = -lowest;
+  for (int i = first; i < last; ++i) {
+    const FxAABB& box = nodes_[leaves_[i]].box;
+    const FxVec2f centre = 0.5f * (box.lower + box.upper);
+    lowest = min(lowest, centre);
+    highest = max(highest, centre);
+  }
+  const bool along_x = highest.x - lowest.x >= highest.y - lowest.y;
+  const int middle = first + (last - first) / 2;
+  std::nth_element(leaves_.begin() + first, leaves_.begin() + middle, leaves_.begin() + last, [&](int a, int b) {
+    const float key_a = centre_key(nodes_[a].box, along_x), key_b = centre_key(nodes_[b].box, along_x);
+    return key_a < key_b || (key_a == key_b && a < b);
+  });
+  const int child1 = build_subtree(first, middle);
+  const int child2 = build_subtree(middle, last);
+  const int parent = allocate_node();
+  Node& node = nodes_[parent];
+  node.child1 = child1;
+  node.child2 = child2;
+  node.box = union_of(nodes_[child1].box, nodes_[child2].box);
+  node.height = 1 + std::max(nodes_[child1].height, nodes_[child2].height);
+  nodes_[child1].parent_or_next = parent;
+  nodes_[child2].parent_or_next = parent;
+  return parent;
 }
 
 int AabbTree::find_best_sibling(const FxAABB& box) const {

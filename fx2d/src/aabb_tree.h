@@ -27,6 +27,13 @@ class AabbTree {
   void destroy_proxy(int proxy);
   // Replaces the proxy's fat box: the leaf is removed and reinserted.
   void move_proxy(int proxy, const FxAABB& fat_box);
+  // For many proxies at once: replace each one's fat box with set_fat_box(), which leaves the
+  // internal boxes stale, then rebuild() the internal nodes from all leaves, top down, each node
+  // splitting its leaves at the median centre along the longer extent. When most proxies move in
+  // one step (a scene falling in unison) that costs less than moving them one by one. Proxy ids
+  // stay valid; no query or edit may come between the two.
+  void set_fat_box(int proxy, const FxAABB& fat_box);
+  void rebuild();
 
   const FxAABB& fat_box(int proxy) const { return nodes_[proxy].box; }
   std::uint32_t user_data(int proxy) const { return nodes_[proxy].user_data; }
@@ -79,12 +86,14 @@ class AabbTree {
   void refit_upwards(int id);
   int balance(int id);
   int rotate_up(int top, int tall);
+  int build_subtree(int first, int last);
 
   std::vector<Node> nodes_;
   int root_ = null_node;
   int free_list_ = null_node;
   int proxy_count_ = 0;
   mutable std::vector<int> stack_;
+  std::vector<int> leaves_;  // rebuild()'s scratch
 };
 
 }  // namespace fx2d::detail

@@ -15,6 +15,8 @@ constexpr float proxy_margin = 0.1f;  // metres
 // body leave its box every other step (a third of the broad phase's time went to reinserting
 // proxies on settling_boxes 3000); four cost some extra narrow-phase pairs and save more.
 constexpr float proxy_sweep_steps = 4.0f;
+// The tree is rebuilt when more than one proxy in this many moves in a step.
+constexpr std::size_t rebuild_fraction_inverse = 2;
 
 }  // namespace
 
@@ -56,11 +58,20 @@ void World::update_broad_phase() {
   if (jointed_pairs_dirty) rebuild_jointed_pairs();
   moved_bodies.clear();
   for (std::uint32_t i = 0; i < records.size(); ++i) {
-    BodyRecord& record = records[i];
-    if (!record.moved) continue;
-    tree.move_proxy(record.proxy, fat_box_for(sims[i].aabb, proxy_sweep_steps * settings.dt * sims[i].linear_velocity));
-    moved_bodies.push_back(i);
+    if (records[i].moved) moved_bodies.push_back(i);
   }
+  // When most proxies left their boxes at once (bodies falling in unison do so every few steps),
+  // a tree built afresh costs less than moving each of them.
+  const bool rebuild = moved_bodies.size() * rebuild_fraction_inverse > std::size_t(tree.proxy_count());
+  for (const std::uint32_t i : moved_bodies) {
+    const FxAABB fat = fat_box_for(sims[i].aabb, proxy_sweep_steps * settings.dt * sims[i].linear_velocity);
+    if (rebuild) {
+      tree.set_fat_box(records[i].proxy, fat);
+    } else {
+      tree.move_proxy(records[i].proxy, fat);
+    }
+  }
+  if (rebuild) tree.rebuild();
 
   // A pair of moved bodies is found from both sides; only the lower index records it.
   new_pairs.clear();

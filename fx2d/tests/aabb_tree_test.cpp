@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -41,6 +42,22 @@ std::vector<int> query_all(const AabbTree& tree, const FxAABB& box) {
     return true;
   });
   return found;
+}
+
+// Random query boxes from `source`: the tree finds exactly the proxies a brute-force scan finds.
+void expect_queries_match_brute_force(const AabbTree& tree, const std::vector<Proxy>& live, BoxSource& source,
+                                      int queries) {
+  for (int q = 0; q < queries; ++q) {
+    const FxAABB query = source.box();
+    std::vector<int> found = query_all(tree, query);
+    std::vector<int> expected;
+    for (const Proxy& p : live) {
+      if (overlaps(p.box, query)) expected.push_back(p.id);
+    }
+    std::sort(found.begin(), found.end());
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(found, expected) << "query " << q;
+  }
 }
 
 // Applies a random mix of inserts, moves and removes, calling `after_each` after every one.
@@ -89,16 +106,48 @@ TEST(AabbTree, QueryReturnsExactlyTheOverlappingProxies) {
   AabbTree tree;
   const std::vector<Proxy> live = random_edits(tree, 11, 2000, [](const std::vector<Proxy>&) {});
   BoxSource source(99);
-  for (int q = 0; q < 200; ++q) {
-    const FxAABB query = source.box();
-    std::vector<int> found = query_all(tree, query);
-    std::vector<int> expected;
-    for (const Proxy& p : live) {
-      if (overlaps(p.box, query)) expected.push_back(p.id);
-    }
-    std::sort(found.begin(), found.end());
-    std::sort(expected.begin(), expected.end());
-    EXPECT_EQ(found, expected) << "query " << q;
+  expect_queries_match_brute_force(tree, live, source, 200);
+}
+
+TEST(AabbTree, RebuildAfterManyMovesKeepsIdsAndQueriesExactAndIsBalanced) {
+  AabbTree tree;
+  std::vector<Proxy> live = random_edits(tree, 13, 2000, [](const std::vector<Proxy>&) {});
+  BoxSource source(17);
+  for (std::size_t i = 0; i < live.size(); i += 2) {
+    live[i].box = source.box();
+    tree.set_fat_box(live[i].id, live[i].box);
+  }
+  tree.rebuild();
+  ASSERT_TRUE(tree.validate());
+  EXPECT_EQ(tree.proxy_count(), int(live.size()));
+  // Median splits: a perfectly balanced tree, ceil(log2(n)) levels.
+  EXPECT_EQ(tree.height(), std::bit_width(live.size() - 1));
+  expect_queries_match_brute_force(tree, live, source, 200);
+  // The rebuilt tree takes further edits like any other.
+  for (int i = 0; i < 100; ++i) tree.move_proxy(live[std::size_t(i)].id, source.box());
+  tree.destroy_proxy(live.back().id);
+  tree.create_proxy(source.box(), 0);
+  EXPECT_TRUE(tree.validate());
+}
+
+TEST(AabbTree, RebuildGivesTheSameTreeWhateverTheInsertionHistory) {
+  // The same final boxes reached by different edit histories: the rebuilt trees answer every
+  // query in the same order.
+  AabbTree first, second;
+  std::vector<int> first_ids, second_ids;
+  BoxSource boxes(21);
+  std::vector<FxAABB> final_boxes;
+  for (int i = 0; i < 500; ++i) final_boxes.push_back(boxes.box());
+  for (int i = 0; i < 500; ++i) first_ids.push_back(first.create_proxy(final_boxes[std::size_t(i)], std::uint32_t(i)));
+  BoxSource noise(22);
+  for (int i = 0; i < 500; ++i) second_ids.push_back(second.create_proxy(noise.box(), std::uint32_t(i)));
+  for (int i = 0; i < 500; ++i) second.set_fat_box(second_ids[std::size_t(i)], final_boxes[std::size_t(i)]);
+  first.rebuild();
+  second.rebuild();
+  ASSERT_EQ(first_ids, second_ids);
+  for (int q = 0; q < 50; ++q) {
+    const FxAABB query = boxes.box();
+    EXPECT_EQ(query_all(first, query), query_all(second, query));
   }
 }
 
