@@ -93,9 +93,13 @@ void AabbTree::rebuild() {
 
 namespace {
 
-// A box's centre along one axis, doubled; NaN sorts last so that the order stays total.
+// A box's centre, doubled (exact, and enough to compare and to measure extents).
+FxVec2f doubled_centre(const FxAABB& box) { return box.lower + box.upper; }
+
+// The doubled centre along one axis; NaN sorts last so that the order stays total.
 float centre_key(const FxAABB& box, bool along_x) {
-  const float key = along_x ? box.lower.x + box.upper.x : box.lower.y + box.upper.y;
+  const FxVec2f centre = doubled_centre(box);
+  const float key = along_x ? centre.x : centre.y;
   return key == key ? key : std::numeric_limits<float>::infinity();
 }
 
@@ -109,8 +113,7 @@ int AabbTree::build_subtree(int first, int last) {
   FxVec2f lowest{std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
   FxVec2f highest = -lowest;
   for (int i = first; i < last; ++i) {
-    const FxAABB& box = nodes_[leaves_[i]].box;
-    const FxVec2f centre = 0.5f * (box.lower + box.upper);
+    const FxVec2f centre = doubled_centre(nodes_[leaves_[i]].box);
     lowest = min(lowest, centre);
     highest = max(highest, centre);
   }

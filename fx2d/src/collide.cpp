@@ -172,10 +172,11 @@ void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& 
   std::array<FxVec2f, FxShape::max_vertices> b_vertices, b_normals;
   for (int i = 0; i < count_b; ++i) b_vertices[i] = transform_point(b_in_a, b.vertices()[i]);
   const PolygonView poly_a{a.vertices().data(), a.normals().data(), a.vertex_count()};
-  const FaceSeparation face_a = max_face_separation(poly_a, PolygonView{b_vertices.data(), nullptr, count_b});
+  const PolygonView poly_b{b_vertices.data(), b_normals.data(), count_b};
+  // A's faces read only B's vertices.
+  const FaceSeparation face_a = max_face_separation(poly_a, poly_b);
   if (!(face_a.separation < speculative_distance)) return;
   for (int i = 0; i < count_b; ++i) b_normals[i] = rotate(b_in_a.q, b.normals()[i]);
-  const PolygonView poly_b{b_vertices.data(), b_normals.data(), count_b};
   const FaceSeparation face_b = max_face_separation(poly_b, poly_a);
   if (!(face_b.separation < speculative_distance)) return;
 

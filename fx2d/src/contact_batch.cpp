@@ -308,15 +308,15 @@ FX2D_LANE_KERNEL void solve_runs_relaxed(std::span<const BatchRun> runs, FxConta
 
 namespace {
 
-// How much row s's relative speed changes per unit impulse on row r: J_s M^-1 J_r^T, that is
-// (m_a + m_b) (d_s . d_r) + arm_a(s) spin_a(r) + arm_b(s) spin_b(r). Normal and tangent are
-// perpendicular, so the mass term appears only between rows of one direction.
 // Row s's lever arms times row r's spins, arm_a(s) spin_a(r) + arm_b(s) spin_b(r), in one lane.
 float arms_times_spins(const float* arm_a, const float* arm_b, const float* spin_a, const float* spin_b,
                        int lane) {
   return arm_a[lane] * spin_a[lane] + arm_b[lane] * spin_b[lane];
 }
 
+// How much row s's relative speed changes per unit impulse on row r: J_s M^-1 J_r^T, that is
+// (m_a + m_b) (d_s . d_r) + arm_a(s) spin_a(r) + arm_b(s) spin_b(r). Normal and tangent are
+// perpendicular, so the mass term appears only between rows of one direction.
 void add_couplings(FxContactBatch& k, int lane, int points, float mass_sum) {
   FxPointColumns* p = k.point;
   for (int s = 0; s < points; ++s) {
@@ -364,27 +364,28 @@ void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, st
       k.mass_normal_by[lane] = c.inv_mass_b * c.normal.y;
       k.friction[lane] = c.friction;
       k.constraint[lane] = index;
+      const FxVec2f tangent = right_perp(c.normal);
       for (int i = 0; i < points; ++i) {
         const ContactPointConstraint& cp = c.points[i];
-        k.point[i].anchor_ax[lane] = cp.anchor_a.x;
-        k.point[i].anchor_ay[lane] = cp.anchor_a.y;
-        k.point[i].anchor_bx[lane] = cp.anchor_b.x;
-        k.point[i].anchor_by[lane] = cp.anchor_b.y;
-        k.point[i].adjusted_separation[lane] = cp.adjusted_separation;
-        k.point[i].normal_mass[lane] = cp.normal_mass;
-        k.point[i].tangent_mass[lane] = cp.tangent_mass;
-        k.point[i].normal_impulse[lane] = cp.normal_impulse;
-        k.point[i].tangent_impulse[lane] = cp.tangent_impulse;
-        k.point[i].max_normal_impulse[lane] = 0.0f;
-        const FxVec2f tangent = right_perp(c.normal);
-        k.point[i].arm_normal_a[lane] = cross(cp.anchor_a, c.normal);
-        k.point[i].arm_normal_b[lane] = cross(cp.anchor_b, c.normal);
-        k.point[i].arm_tangent_a[lane] = cross(cp.anchor_a, tangent);
-        k.point[i].arm_tangent_b[lane] = cross(cp.anchor_b, tangent);
-        k.point[i].spin_normal_a[lane] = c.inv_inertia_a * k.point[i].arm_normal_a[lane];
-        k.point[i].spin_normal_b[lane] = c.inv_inertia_b * k.point[i].arm_normal_b[lane];
-        k.point[i].spin_tangent_a[lane] = c.inv_inertia_a * k.point[i].arm_tangent_a[lane];
-        k.point[i].spin_tangent_b[lane] = c.inv_inertia_b * k.point[i].arm_tangent_b[lane];
+        FxPointColumns& column = k.point[i];
+        column.anchor_ax[lane] = cp.anchor_a.x;
+        column.anchor_ay[lane] = cp.anchor_a.y;
+        column.anchor_bx[lane] = cp.anchor_b.x;
+        column.anchor_by[lane] = cp.anchor_b.y;
+        column.adjusted_separation[lane] = cp.adjusted_separation;
+        column.normal_mass[lane] = cp.normal_mass;
+        column.tangent_mass[lane] = cp.tangent_mass;
+        column.normal_impulse[lane] = cp.normal_impulse;
+        column.tangent_impulse[lane] = cp.tangent_impulse;
+        column.max_normal_impulse[lane] = 0.0f;
+        column.arm_normal_a[lane] = cross(cp.anchor_a, c.normal);
+        column.arm_normal_b[lane] = cross(cp.anchor_b, c.normal);
+        column.arm_tangent_a[lane] = cross(cp.anchor_a, tangent);
+        column.arm_tangent_b[lane] = cross(cp.anchor_b, tangent);
+        column.spin_normal_a[lane] = c.inv_inertia_a * column.arm_normal_a[lane];
+        column.spin_normal_b[lane] = c.inv_inertia_b * column.arm_normal_b[lane];
+        column.spin_tangent_a[lane] = c.inv_inertia_a * column.arm_tangent_a[lane];
+        column.spin_tangent_b[lane] = c.inv_inertia_b * column.arm_tangent_b[lane];
       }
       add_couplings(k, lane, points, c.inv_mass_a + c.inv_mass_b);
       ++lane;

@@ -37,17 +37,21 @@ void keep_points_within(Manifold& manifold, float distance) {
 PairMotion World::pair_motion(std::uint32_t a, std::uint32_t b) const {
   const BodySim& sa = sims[a];
   const BodySim& sb = sims[b];
-  return {sa.linear_velocity, sb.linear_velocity, length(sb.linear_velocity - sa.linear_velocity),
+  return {sa.linear_velocity, sb.linear_velocity,
           std::fabs(sa.angular_velocity) * records[a].shape.extent() +
               std::fabs(sb.angular_velocity) * records[b].shape.extent()};
 }
 
 float PairMotion::fastest_closing() const {
-  return std::max({relative_speed, length(velocity_a), length(velocity_b)}) + spin_speed;
+  // The largest of |v_b - v_a|, |v_a| and |v_b|: one square root of the largest square, which is
+  // the same float (sqrt is monotonic and correctly rounded).
+  const FxVec2f relative = velocity_b - velocity_a;
+  return std::sqrt(std::max({dot(relative, relative), dot(velocity_a, velocity_a), dot(velocity_b, velocity_b)})) +
+         spin_speed;
 }
 
 float PairMotion::closing_along(FxVec2f normal) const {
-  return std::max({relative_speed, dot(velocity_a, normal), -dot(velocity_b, normal)}) + spin_speed;
+  return std::max({length(velocity_b - velocity_a), dot(velocity_a, normal), -dot(velocity_b, normal)}) + spin_speed;
 }
 
 void World::update_contacts() {

@@ -71,8 +71,7 @@ struct Snapshot {
 // How fast two bodies could close within the step, for their speculative margin (narrow_phase.cpp).
 struct PairMotion {
   FxVec2f velocity_a, velocity_b;
-  float relative_speed;  // |v_b - v_a|
-  float spin_speed;      // what the spins add at the shapes' extents
+  float spin_speed;  // what the spins add at the shapes' extents
   float fastest_closing() const;                 // along any direction
   float closing_along(FxVec2f normal) const;     // along `normal`, from A towards B
 };
