@@ -1,10 +1,13 @@
 // `fx2d-bench ab --a X --b Y [SCENE ...]`: two builds of Fx2D, back to back in one process, and
 // the verdict `fx2d-bench compare` gives on them.
 //
-// Reads top to bottom: the options; the checks made before anything is built (scenes, --out);
-// the two builds turned into loaded plugins (ab_builds.h: a plugin file, a build directory,
-// `worktree` or a git revision, built and cached); every scene measured in ABBA rounds
-// (interleave.h: why rounds alternate, and what a round is); one result file holding both builds
+// Reads top to bottom: the options; the checks made before anything is built (scenes, --out, both
+// builds resolved, valgrind for --counter); the two builds turned into loaded plugins
+// (ab_builds.h: a plugin file, a build directory, `worktree` or a git revision, built and cached),
+// each named on stderr with the plugin file loaded; every scene measured in ABBA rounds
+// (interleave.h: why rounds alternate, and what a round is), then with --counter instructions
+// each build's step loop counted under callgrind from that same plugin file
+// (instruction_counter.h); one result file holding both builds
 // as engines fx2d@A and fx2d@B; then the A/B verdict, computed by compare's own functions on the
 // same split of that file `fx2d-bench compare ab.h5` makes, with compare's renderers and exit
 // codes (0 no regression, 1 regression, 3 inconclusive; 2 bad input, as everywhere).
@@ -15,6 +18,8 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <sstream>
 
 #include "ab_builds.h"
 #include "cli_options.h"
@@ -22,10 +27,12 @@
 #include "commands.h"
 #include "compare.h"
 #include "errors.h"
+#include "instruction_counter.h"
 #include "interleave.h"
 #include "interrupt.h"
 #include "provenance.h"
 #include "results_h5.h"
+#include "statistics.h"
 
 namespace fxbench {
 namespace {
@@ -38,6 +45,7 @@ struct AbOptions {
   SceneOptions scenes;
   InterleavePlan plan;
   std::string out;
+  std::string counter;  // "instructions": also count each build's step loop under callgrind
   bool force = false;
   bool json = false;
   bool markdown = false;
@@ -70,12 +78,18 @@ ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
   if (!options.out.empty() && !options.force && std::filesystem::exists(options.out))
     throw InputError(options.out + ": exists; pass --force to overwrite it");
   const std::vector<SceneSpec> scenes = options.scenes.load();
+  const ResolvedBuild resolved_a = resolve_plugin_build("--a", options.a, options.a_cmake);
+  const ResolvedBuild resolved_b = resolve_plugin_build("--b", options.b, options.b_cmake);
+  // instruction_counter.h: refuses before anything is built when valgrind cannot run.
+  const std::optional<InstructionCounter> counter =
+      options.counter.empty() ? std::nullopt : std::optional<InstructionCounter>(std::in_place);
 
-  const PluginBuild build_a = prepare_plugin_build("--a", options.a, options.a_cmake);
-  const PluginBuild build_b = prepare_plugin_build("--b", options.b, options.b_cmake);
+  const PluginBuild build_a = prepare_plugin_build(resolved_a);
+  const PluginBuild build_b = prepare_plugin_build(resolved_b);
   const EngineInfo engine_a = variant_engine(build_a, Variant::a);
   const EngineInfo engine_b = variant_engine(build_b, Variant::b);
-  std::cerr << "fx2d-bench: A = " << engine_a.version << "\nfx2d-bench: B = " << engine_b.version << '\n';
+  std::cerr << "fx2d-bench: A = " << engine_a.version << " (plugin " << build_a.path << ")\nfx2d-bench: B = "
+            << engine_b.version << " (plugin " << build_b.path << ")\n";
 
   const ScopedInterruptHandler interrupts;  // interrupt.h: Ctrl-C saves what was measured
   ResultSet results;
@@ -92,6 +106,12 @@ ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
     InterleavedRuns runs = measure_interleaved(scene, engine_a, engine_b, plan, round_progress(scene));
     if (isatty(STDERR_FILENO) == 1) std::fputs("\r\x1b[K", stderr);
     results.partial = runs.interrupted;
+    // The count loads the very plugin files just timed, never another build of the same revision.
+    for (auto [run, build] : {std::pair{&runs.a, &build_a}, std::pair{&runs.b, &build_b}}) {
+      if (!counter || results.partial) continue;
+      run->instruction_count = counter->count(scene, "plugin:" + build->path + "|" + run->engine);
+      results.partial = !run->instruction_count;  // interrupt.h: the SIGINT stopped the counting child
+    }
     results.scenes.push_back(scene_record(scene));
     for (RunRecord* run : {&runs.a, &runs.b})
       if (run->repeats > 0) results.runs.push_back(std::move(*run));
@@ -111,6 +131,25 @@ ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
   return print_compare_report(report, {.json = options.json, .markdown = options.markdown});
 }
 
+// The rounds are judged by a sign test (compare's Method): below its fewest decisive pairs no
+// slowdown, however large, could ever be called `slower`, so such a request is refused.
+CLI::Validator enough_rounds_to_decide() {
+  const double alpha = CompareSettings{}.rules.alpha;
+  const int fewest = sign_test_min_pairs(alpha);
+  return CLI::Validator(
+      [fewest, alpha](std::string& text) -> std::string {
+        int rounds = 0;
+        if (!CLI::detail::lexical_cast(text, rounds) || rounds < fewest || rounds > 100'000) {
+          std::ostringstream message;
+          message << "expected " << fewest << " to 100000 rounds, got " << text << ": the sign test over fewer than "
+                  << fewest << " rounds cannot reach p < " << alpha << " however the builds differ";
+          return message.str();
+        }
+        return {};
+      },
+      "INT in [" + std::to_string(fewest) + " - 100000]");
+}
+
 }  // namespace
 
 void register_ab(CLI::App& app, const std::string& command_line, int& exit_status) {
@@ -124,11 +163,14 @@ void register_ab(CLI::App& app, const std::string& command_line, int& exit_statu
   ab->add_option("--b-cmake", options->b_cmake, "Extra CMake arguments for building B");
   options->scenes.add_to(*ab, "pile");
   ab->add_option("--rounds", options->plan.rounds, "Timed rounds per build, in the order A B B A A B B A ...")
-      ->check(CLI::Range(3, 100'000))
+      ->check(enough_rounds_to_decide())
       ->capture_default_str();
   ab->add_option("--time-budget", options->plan.time_budget_s,
                  "Stop the rounds earlier, once measuring has taken this many seconds (shared by the scenes)")
       ->check(CLI::Range(0.001, 1e7));
+  ab->add_option("--counter", options->counter,
+                 "Also count each build's step loop exactly: 'instructions' runs each plugin once more under callgrind")
+      ->check(CLI::IsMember({"instructions"}));
   CLI::Option* out = ab->add_option("--out", options->out, "Write both builds' samples to this HDF5 file (fx2d@A, fx2d@B)");
   ab->add_flag("--force", options->force, "Overwrite the --out file if it exists")->needs(out);
   CLI::Option* json = ab->add_flag("--json", options->json, "Print the verdict as JSON (fx2d-bench.compare/1)");

@@ -118,6 +118,7 @@ std::string joined(const std::vector<std::string>& words) {
 struct BuildRequest {
   std::string option;                   // "--a"
   std::string spec;                     // as typed
+  fs::path repository;                  // the git checkout the spec was resolved in
   fs::path source;                      // the tree to build
   fs::path directory;                   // cache entry: build/, build.log, complete
   std::string plugin_description;       // compiled into the plugin
@@ -164,7 +165,7 @@ void extract_revision(const BuildRequest& request, const std::string& sha) {
   const fs::path log = request.directory / "build.log";
   const fs::path archive = request.directory / "source.tar";
   fs::create_directories(request.source);
-  if (!run_logged({"git", "-C", FX2D_SOURCE_DIR, "archive", "--format=tar", "--output=" + archive.string(), sha}, log) ||
+  if (!run_logged({"git", "-C", request.repository.string(), "archive", "--format=tar", "--output=" + archive.string(), sha}, log) ||
       !run_logged({"tar", "-xf", archive.string(), "-C", request.source.string()}, log))
     build_failed(request, "extracting the revision");
   fs::remove(archive);
@@ -172,7 +173,7 @@ void extract_revision(const BuildRequest& request, const std::string& sha) {
 
 PluginBuild loaded(const std::string& option, const fs::path& path, std::string description) {
   try {
-    return {Plugin::load(path.string()), std::move(description)};
+    return {Plugin::load(path.string()), std::move(description), fs::absolute(path).string()};
   } catch (const InputError& error) {
     throw InputError(option + ": " + error.what());
   }
@@ -196,27 +197,29 @@ PluginBuild prebuilt(const std::string& option, const std::string& spec) {
   return build;
 }
 
-PluginBuild built_worktree(const std::string& option, const std::vector<std::string>& cmake_args,
+PluginBuild built_worktree(const std::string& option, const fs::path& checkout, const std::vector<std::string>& cmake_args,
                            const std::vector<std::string>& extra_args) {
-  const std::string head = output_of({"git", "-C", FX2D_SOURCE_DIR, "rev-parse", "--short", "HEAD"}).value_or("unknown");
+  const std::string head = output_of({"git", "-C", checkout.string(), "rev-parse", "--short", "HEAD"}).value_or("unknown");
   std::vector<std::string> key = cmake_args;
-  key.emplace_back(FX2D_SOURCE_DIR);
-  const std::string description = joined({"worktree of " + head, joined(extra_args)});
-  BuildRequest request{option, worktree_word, FX2D_SOURCE_DIR,
-                       fs::path(ab_cache_directory()) / ("worktree-" + build_key(key)), description, cmake_args};
+  key.emplace_back(checkout.string());
+  const std::string description = joined({"worktree " + checkout.string() + " (of " + head + ")", joined(extra_args)});
+  BuildRequest request{option,  worktree_word, checkout, checkout, fs::path(ab_cache_directory()) / ("worktree-" + build_key(key)),
+                       description, cmake_args};
   fs::create_directories(request.directory);
   progress_line(side_of(option) + " = " + description + ": building (log " + (request.directory / "build.log").string() + ")");
   configure_and_build(request);
   return loaded(option, built_plugin(request), description);
 }
 
-PluginBuild built_revision(const std::string& option, const std::string& spec, const std::string& sha,
-                           const std::vector<std::string>& cmake_args, const std::vector<std::string>& extra_args) {
+PluginBuild built_revision(const std::string& option, const std::string& spec, const fs::path& repository,
+                           const std::string& sha, const std::vector<std::string>& cmake_args,
+                           const std::vector<std::string>& extra_args) {
   const std::string short_sha = sha.substr(0, 7);
   const std::string description =
       joined({spec.starts_with(short_sha) ? short_sha : short_sha + " (" + spec + ")", joined(extra_args)});
   const fs::path directory = fs::path(ab_cache_directory()) / (sha + "-" + build_key(cmake_args));
-  BuildRequest request{option, spec, directory / "src", directory, joined({short_sha, joined(extra_args)}), cmake_args};
+  BuildRequest request{option,    spec, repository, directory / "src", directory, joined({short_sha, joined(extra_args)}),
+                       cmake_args};
   const std::string side = side_of(option);
   if (fs::exists(directory / "complete") && fs::exists(built_plugin(request))) {
     progress_line(side + " = " + description + ": cached build " + directory.string());
@@ -242,23 +245,45 @@ std::string ab_cache_directory() {
   return (base / "fx2d-bench" / "ab").string();
 }
 
-PluginBuild prepare_plugin_build(const std::string& option, const std::string& spec, const std::string& cmake_args) {
-  const std::vector<std::string> extra_args = split_words(cmake_args);
-  const bool names_a_file = spec != worktree_word && fs::exists(spec);
-  if (names_a_file) {
-    if (!extra_args.empty())
+// The top level of the git checkout holding the current directory: where `worktree` and revisions
+// are looked up, so that `ab` measures the checkout it runs in, not the one this binary came from.
+fs::path current_checkout(const std::string& option, const std::string& spec) {
+  const std::optional<std::string> top = output_of({"git", "rev-parse", "--show-toplevel"});
+  if (!top || top->empty())
+    throw InputError(option + " " + spec + ": the current directory " + fs::current_path().string() +
+                     " is not in a git checkout; run ab from the Fx2D checkout to measure, or name a plugin file");
+  if (!fs::exists(fs::path(*top) / "fx2d" / "include" / "fx2d" / "fx2d.h"))
+    throw InputError(option + " " + spec + ": " + *top + " is not an Fx2D checkout (no fx2d/include/fx2d/fx2d.h)");
+  return *top;
+}
+
+ResolvedBuild resolve_plugin_build(const std::string& option, const std::string& spec, const std::string& cmake_args) {
+  ResolvedBuild build{option, spec, BuildKind::plugin_file, spec, {}, cmake_args};
+  if (spec != worktree_word && fs::exists(spec)) {
+    if (!split_words(cmake_args).empty())
       throw InputError(option + "-cmake: applies to a git revision or worktree, not to the prebuilt plugin " + spec);
-    return prebuilt(option, spec);
+    return build;
   }
-  std::vector<std::string> all_args = same_flags_arguments();
-  all_args.insert(all_args.end(), extra_args.begin(), extra_args.end());
-  if (spec == worktree_word) return built_worktree(option, all_args, extra_args);
+  const bool is_revision = spec != worktree_word;
+  build.path = current_checkout(option, spec).string();
+  build.kind = is_revision ? BuildKind::revision : BuildKind::worktree;
+  if (!is_revision) return build;
   const std::optional<std::string> sha =
-      output_of({"git", "-C", FX2D_SOURCE_DIR, "rev-parse", "--verify", "--quiet", spec + "^{commit}"});
+      output_of({"git", "-C", build.path, "rev-parse", "--verify", "--quiet", spec + "^{commit}"});
   if (!sha || sha->size() < 7)
     throw InputError(option + " " + spec + ": not a plugin file, a build directory, `worktree`, nor a git revision of " +
-                     std::string(FX2D_SOURCE_DIR));
-  return built_revision(option, spec, *sha, all_args, extra_args);
+                     build.path);
+  build.sha = *sha;
+  return build;
+}
+
+PluginBuild prepare_plugin_build(const ResolvedBuild& build) {
+  if (build.kind == BuildKind::plugin_file) return prebuilt(build.option, build.spec);
+  const std::vector<std::string> extra_args = split_words(build.cmake_args);
+  std::vector<std::string> all_args = same_flags_arguments();
+  all_args.insert(all_args.end(), extra_args.begin(), extra_args.end());
+  if (build.kind == BuildKind::worktree) return built_worktree(build.option, build.path, all_args, extra_args);
+  return built_revision(build.option, build.spec, build.path, build.sha, all_args, extra_args);
 }
 
 }  // namespace fxbench

@@ -1,6 +1,6 @@
 // What `fx2d-bench ab --a X --b Y` names, turned into a loaded engine plugin: a plugin file, a
-// build directory holding one, the word `worktree` (the source tree this binary was built from,
-// uncommitted changes included), or any git revision of that tree.
+// build directory holding one, the word `worktree` (the checkout of the current directory,
+// uncommitted changes included), or any git revision of the current directory's repository.
 //
 // A revision is extracted (git archive) and built with the plugin project of THIS tree
 // (harness/plugin/CMakeLists.txt, FX2D_ROOT = the extracted tree), in Release with the flags this
@@ -9,9 +9,11 @@
 // arguments and the plugin sources, so the same request never builds twice; the worktree's build
 // directory is kept and rebuilt incrementally each time.
 //
-// Invariants: a cached build is used only when its `complete` stamp exists (a failed or killed
-// build is started again from scratch); build output goes to the build's log file, progress to
-// stderr; a failure is one InputError line naming the option, the revision and the log.
+// Invariants: both builds are resolved (resolve_plugin_build) before either is built, so a name
+// that means nothing is refused before minutes of building; a cached build is used only when its
+// `complete` stamp exists (a failed or killed build is started again from scratch); build output
+// goes to the build's log file, progress to stderr; a failure is one InputError line naming the
+// option, the revision and the log.
 #pragma once
 
 #include <memory>
@@ -25,11 +27,29 @@ struct PluginBuild {
   std::shared_ptr<const Plugin> plugin;
   // Which build this is, for result files and tables, e.g. "a1b2c3d (HEAD~1) -DFX2D_NATIVE=ON".
   std::string description;
+  // The plugin file loaded: what anything else measuring this build (a count under valgrind)
+  // must load, rather than guess from the cache.
+  std::string path;
+};
+
+enum class BuildKind { plugin_file, worktree, revision };
+
+// `--a`/`--b` checked and resolved, nothing built yet.
+struct ResolvedBuild {
+  std::string option;  // "--a"
+  std::string spec;    // as typed
+  BuildKind kind = BuildKind::plugin_file;
+  std::string path;        // plugin_file: the file or build directory; otherwise the repository's top level
+  std::string sha;         // revision: the full commit
+  std::string cmake_args;  // the user's extra CMake arguments, whitespace-separated
 };
 
 // Resolves `spec`, given as `option` (e.g. "--a"), with extra CMake arguments `cmake_args`
-// (whitespace-separated; only for a revision or `worktree`). Builds when needed. Throws InputError.
-PluginBuild prepare_plugin_build(const std::string& option, const std::string& spec, const std::string& cmake_args);
+// (whitespace-separated; only for a revision or `worktree`). Builds nothing. Throws InputError.
+ResolvedBuild resolve_plugin_build(const std::string& option, const std::string& spec, const std::string& cmake_args);
+
+// Builds `build` when needed and loads its plugin. Throws InputError.
+PluginBuild prepare_plugin_build(const ResolvedBuild& build);
 
 // Where revision builds are cached.
 std::string ab_cache_directory();

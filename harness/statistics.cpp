@@ -10,6 +10,8 @@
 #include <numbers>
 #include <numeric>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 namespace fxbench {
 namespace {
@@ -227,6 +229,19 @@ RankTest paired_sign_test(std::span<const double> a, std::span<const double> b) 
     larger_in_b += b[i] > a[i] ? 1.0 : 0.0;
   }
   return normal_approximation(larger_in_b, unequal / 2.0, unequal / 4.0, 1.0);
+}
+
+int sign_test_min_pairs(double alpha) {
+  std::vector<double> a;
+  std::vector<double> b;
+  // The p-value of n pairs all one way halves about every two pairs, so any alpha the policy
+  // accepts (>= 1e-9) is reached long before this bound.
+  for (int pairs = 1; pairs < 1000; ++pairs) {
+    a.push_back(0.0);
+    b.push_back(1.0);
+    if (paired_sign_test(a, b).p_value < alpha) return pairs;
+  }
+  throw std::invalid_argument("sign_test_min_pairs: alpha " + std::to_string(alpha) + " is beyond reach");
 }
 
 RankTest paired_log_ratio_test(std::span<const double> a_step_medians, std::span<const double> b_step_medians) {

@@ -105,6 +105,11 @@ RankTest wilcoxon_signed_rank(std::span<const double> differences);
 // however far a disturbance moved it.
 RankTest paired_sign_test(std::span<const double> a, std::span<const double> b);
 
+// The fewest pairs for which paired_sign_test can reach p < alpha at all: with fewer, even B
+// larger in every pair is not significant, so an `ab` of that many rounds can never say `slower`
+// or `faster` (6 at alpha 0.05). Computed from the test itself on the most extreme outcome.
+int sign_test_min_pairs(double alpha);
+
 // The paired test for two runs that stepped the same deterministic trajectory, so that step i of
 // A and step i of B did the same work: Wilcoxon signed-rank on log(b_i / a_i), where a_i and b_i
 // are the medians of step i across each run's repeats. Steps where either median is not positive
