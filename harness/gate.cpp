@@ -55,7 +55,7 @@ std::string interval_text(const GateRow& row) {
   return fixed(row.ratio, 3) + " [" + fixed(row.ci_low, 3) + ", " + fixed(row.ci_high, 3) + "]";
 }
 
-std::string gate_table(const GateReport& report) {
+std::string gate_table(const GateReport& report, const std::string& policy_path) {
   std::vector<std::vector<std::string>> cells{
       {"engine", "scene", "bodies", "metric", "A", "B", "ratio [95% CI]", "band", "compare said", "gate"}};
   std::string quarantined;
@@ -70,7 +70,7 @@ std::string gate_table(const GateReport& report) {
                      row.compare_verdict, row.regression ? row.verdict + " (REGRESSION)" : row.verdict});
   }
   std::string text = report.headline() + "\n\n" + aligned_columns(cells);
-  if (!quarantined.empty()) text += "\nquarantined, not gating (ci/gating.json):\n" + quarantined;
+  if (!quarantined.empty()) text += "\nquarantined, not gating (" + policy_path + "):\n" + quarantined;
   for (const std::string& control : report.noisy_controls) text += "\nnoisy machine: control " + control;
   if (!report.noisy_controls.empty()) text += "\n";
   return text;
@@ -110,7 +110,7 @@ ExitCode gate_command(const GateOptions& options) {
   if (options.json)
     std::cout << gate_json(report, options).dump(2) << "\n";
   else
-    std::cout << gate_table(report);
+    std::cout << gate_table(report, options.policy_path);
   return report.exit_code();
 }
 

@@ -87,7 +87,8 @@ class PolicyReader {
     if (allow_reason && value.contains("reason")) text(value["reason"], pointer + "/reason");
   }
 
-  Suite suite(const json& value, const std::string& pointer) const {
+  // `alpha`: the strictest significance level the policy judges at, which sets the fewest rounds.
+  Suite suite(const json& value, const std::string& pointer, double alpha) const {
     expect_object(value, pointer, {"engines", "scenes", "rounds", "steps"}, {"engines", "scenes", "rounds", "steps"});
     Suite suite;
     suite.engines = texts(value["engines"], pointer + "/engines");
@@ -99,9 +100,22 @@ class PolicyReader {
       suite.scenes.push_back({text(scenes[i]["scene"], where + "/scene"),
                               integer(scenes[i]["bodies"], where + "/bodies", 1, 1'000'000)});
     }
-    suite.rounds = integer(value["rounds"], pointer + "/rounds", 3, 10'000);
+    suite.rounds = rounds(value["rounds"], pointer + "/rounds", alpha);
     suite.steps = integer(value["steps"], pointer + "/steps", 1, 1'000'000);
     return suite;
+  }
+
+  // The rounds are judged by a sign test (compare's Method); with fewer than it can decide on,
+  // no slowdown could ever gate.
+  int rounds(const json& value, const std::string& pointer, double alpha) const {
+    const int fewest = sign_test_min_pairs(alpha);
+    if (value.is_number_integer() && value.get<long long>() >= 1 && value.get<long long>() < fewest) {
+      std::ostringstream why;
+      why << "expected at least " << fewest << " rounds, got " << value.dump() << ": the sign test over fewer rounds "
+          << "cannot reach p < " << alpha << " (the policy's strictest alpha) however the builds differ";
+      fail(pointer, why.str());
+    }
+    return integer(value, pointer, fewest, 10'000);
   }
 
   Quarantine quarantine(const json& value, const std::string& pointer) const {
@@ -260,6 +274,12 @@ void distrust_time_on_noisy_machine(GateReport& report) {
 
 bool is_inconclusive(const GateRow& row) { return row.verdict.starts_with("inconclusive"); }
 
+// A control is steady only when it was judged `no change`: an undecided one vouches for nothing.
+const char* control_state(const GateRow& row) {
+  if (row.verdict.starts_with("control changed")) return "controls changed";
+  return row.verdict.starts_with("control: no change") ? "controls steady" : "controls inconclusive";
+}
+
 }  // namespace
 
 // --- the policy -----------------------------------------------------------------------------------
@@ -289,9 +309,6 @@ Policy parse_policy(const std::string& text, const std::string& label) {
   if (document["schema"] != gating_schema)
     reader.fail("/schema", std::string("expected \"") + gating_schema + "\", got " + document["schema"].dump());
   Policy policy;
-  policy.suite = reader.suite(document["suite"], "/suite");
-  policy.smoke = reader.suite(document["smoke"], "/smoke");
-  if (document.contains("controls")) policy.controls = reader.texts(document["controls"], "/controls");
   reader.thresholds(document["defaults"], "/defaults", policy.defaults, false);
   if (document.contains("scenes")) {
     if (!document["scenes"].is_object()) reader.fail("/scenes", "expected an object: scene name -> thresholds");
@@ -301,6 +318,11 @@ Policy parse_policy(const std::string& text, const std::string& label) {
       policy.scene_thresholds.emplace_back(scene, thresholds);
     }
   }
+  double strictest_alpha = policy.defaults.alpha;
+  for (const auto& [scene, thresholds] : policy.scene_thresholds) strictest_alpha = std::min(strictest_alpha, thresholds.alpha);
+  policy.suite = reader.suite(document["suite"], "/suite", strictest_alpha);
+  policy.smoke = reader.suite(document["smoke"], "/smoke", strictest_alpha);
+  if (document.contains("controls")) policy.controls = reader.texts(document["controls"], "/controls");
   if (document.contains("quarantine")) {
     const json& entries = document["quarantine"];
     if (!entries.is_array()) reader.fail("/quarantine", "expected a list of {engine, scene, bodies, metric, reason}");
@@ -389,7 +411,7 @@ std::string GateReport::headline() const {
   std::map<std::string, int> counts;
   for (const GateRow& row : rows) {
     if (row.quarantined) ++counts["quarantined"];
-    else if (row.control) ++counts[row.verdict.starts_with("control changed") ? "controls changed" : "controls steady"];
+    else if (row.control) ++counts[control_state(row)];
     else if (row.regression) ++counts["regressions"];
     else if (is_inconclusive(row)) ++counts["inconclusive"];
     else if (row.step_detected) ++counts["improvements"];
@@ -397,7 +419,7 @@ std::string GateReport::headline() const {
   }
   std::string text;
   for (const char* name : {"regressions", "improvements", "unchanged", "inconclusive", "quarantined", "controls steady",
-                           "controls changed"})
+                           "controls inconclusive", "controls changed"})
     text += std::string(text.empty() ? "" : ", ") + std::to_string(counts[name]) + " " + name;
   if (!noisy_controls.empty()) text += " (noisy machine: time verdicts not trusted)";
   return text;

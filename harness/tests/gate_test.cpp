@@ -16,6 +16,7 @@
 #include <fstream>
 
 #include "bench_process.h"
+#include "statistics.h"
 
 namespace fxbench {
 namespace {
@@ -29,8 +30,8 @@ constexpr double edge = 0.03125;  // 2^-5: the test policy's noise band and inst
 // (50%); one ODE row is quarantined; Box2D and ODE are controls.
 const char* const test_policy = R"policy({
   "schema": "fx2d-bench.gating/1",
-  "suite": {"engines": ["fx2d", "box2d", "ode"], "scenes": [{"scene": "pile", "bodies": 600}], "rounds": 5, "steps": 50},
-  "smoke": {"engines": ["fx2d"], "scenes": [{"scene": "pile", "bodies": 60}], "rounds": 3, "steps": 20},
+  "suite": {"engines": ["fx2d", "box2d", "ode"], "scenes": [{"scene": "pile", "bodies": 600}], "rounds": 8, "steps": 50},
+  "smoke": {"engines": ["fx2d"], "scenes": [{"scene": "pile", "bodies": 60}], "rounds": 6, "steps": 20},
   "controls": ["box2d", "ode"],
   "defaults": {"noise": 0.03125, "alpha": 0.05, "accuracy_tolerance": 0.05, "instructions_tolerance": 0.03125},
   "scenes": {"stacks": {"noise": 0.25, "accuracy_tolerance": 0.5, "reason": "test: a looser scene"}},
@@ -151,6 +152,14 @@ TEST(GateControls, ControlThatMovedMakesTheNightInconclusive) {
   EXPECT_NE(report.headline().find("noisy machine"), std::string::npos);
 }
 
+TEST(GateControls, AnUndecidedControlIsNotCountedSteady) {
+  const GateReport report = judged({time_row("box2d", "pile", 1.03, 1.01, 1.05, 0.2),
+                                    time_row("fx2d", "pile", 1.0, 0.99, 1.01, 0.6)});
+  EXPECT_EQ(report.rows[0].verdict, "control: inconclusive");
+  EXPECT_NE(report.headline().find("0 controls steady, 1 controls inconclusive, 0 controls changed"), std::string::npos)
+      << report.headline();
+}
+
 TEST(GateControls, SteadyControlsLeaveTheVerdictAlone) {
   const GateReport report = judged({time_row("box2d", "pile", 1.0, 0.99, 1.01, 0.6),
                                     time_row("fx2d", "pile", 1.1, 1.08, 1.12, 0.001)});
@@ -225,9 +234,22 @@ TEST(GatePolicyRefusals, EachBadPolicyIsNamedByItsJsonPointer) {
   expect_policy_error(replaced(good, "\"noise\": 0.25", "\"noise\": 2"), "/scenes/stacks/noise: expected a number in [0, 0.5]");
   expect_policy_error(replaced(good, ",\n                  \"reason\": \"ODE's QuickStep timing swings 5% between boots (test)\"", ""),
                       "/quarantine/0: missing 'reason'");
-  expect_policy_error(replaced(good, "\"rounds\": 5", "\"rounds\": 2"), "/suite/rounds: expected an integer in [3,");
+  expect_policy_error(replaced(good, "\"rounds\": 6", "\"rounds\": 5"), "/smoke/rounds: expected at least 6 rounds, got 5");
+  expect_policy_error(replaced(good, "\"rounds\": 8", "\"rounds\": 0"), "/suite/rounds: expected an integer in [6,");
   expect_policy_error(replaced(good, "gating/1", "gating/9"), "/schema: expected \"fx2d-bench.gating/1\"");
   expect_policy_error("{ not json", "bad.json: not valid JSON");
+}
+
+// The rounds are judged by a sign test: a policy must ask for at least as many as it can decide on
+// at the policy's strictest alpha (sign_test_min_pairs: 6 at 0.05, 13 at 0.001).
+TEST(GatePolicyRefusals, RoundsTooFewForTheSignTestToDecideAreRefused) {
+  const std::string strict = replaced(test_policy, "\"accuracy_tolerance\": 0.5,", "\"accuracy_tolerance\": 0.5, \"alpha\": 0.001,");
+  EXPECT_EQ(sign_test_min_pairs(0.001), 13);
+  expect_policy_error(strict, "/suite/rounds: expected at least 13 rounds, got 8");
+  EXPECT_EQ(parse_policy(replaced(replaced(strict, "\"rounds\": 8", "\"rounds\": 13"), "\"rounds\": 6", "\"rounds\": 13"),
+                         "strict.json")
+                .suite.rounds,
+            13);
 }
 
 TEST(GatePolicyRefusals, CrossEngineComparisonDoesNotGate) {
@@ -277,6 +299,36 @@ TEST_F(GateCommand, PrintsTheQuarantineReasonAndExitsOnTheVerdict) {
   EXPECT_EQ(parsed["rows"][0]["reason"], "ODE's QuickStep timing swings 5% between boots (test)");
 }
 
+TEST_F(GateCommand, TheQuarantineNamesThePolicyFileUsed) {
+  fs::copy_file(directory_ / "policy.json", directory_ / "mypolicy.json");
+  const std::string compare = write("compare.json", comparison({time_row("ode", "pile", 1.5, 1.4, 1.6, 0.001)}).dump());
+  const bench_test::Ending ending = gate({compare, "--policy", (directory_ / "mypolicy.json").string()});
+  EXPECT_EQ(ending.exit_code, 0) << ending.err;
+  EXPECT_NE(ending.out.find("quarantined, not gating (" + (directory_ / "mypolicy.json").string() + "):"), std::string::npos)
+      << ending.out;
+}
+
+// Each misuse of `gate` is one line naming what is wrong, exit code 2 (never 4).
+TEST_F(GateCommand, EveryMisuseIsOneLineAndExitCodeTwo) {
+  const std::string policy = (directory_ / "policy.json").string();
+  const std::string compare = write("compare.json", comparison({time_row("fx2d", "pile", 1.0, 0.99, 1.01, 0.5)}).dump());
+  const std::string scene = std::string(FX2D_SOURCE_DIR) + "/scenes/pile.json";
+  const std::vector<std::pair<std::vector<std::string>, std::string>> misuses = {
+      {{scene, "--policy", policy}, scene + ": expected a fx2d-bench.compare/1 object"},  // wrong file type
+      {{compare, "--policy", scene}, ": unknown key; expected one of schema"},            // a scene as the policy
+      {{compare}, "--policy is required"},                                                // missing argument
+      {{compare, "--policy", policy, "--print-suite", "full"}, "excludes"},               // conflicting options
+      {{"--policy", policy, "--print-suite", "nightly"}, "--print-suite"},
+      {{"--policy", policy}, "gate: give COMPARE.json to judge"},
+  };
+  for (const auto& [arguments, expected] : misuses) {
+    const bench_test::Ending ending = gate(arguments);
+    EXPECT_EQ(ending.exit_code, 2) << ending.err;
+    EXPECT_EQ(std::ranges::count(ending.err, '\n'), 1) << ending.err;
+    EXPECT_NE(ending.err.find(expected), std::string::npos) << ending.err;
+  }
+}
+
 TEST_F(GateCommand, BadPolicyIsOneLineAndExitCodeTwo) {
   const std::string compare = write("compare.json", comparison({time_row("fx2d", "pile", 1.0, 0.99, 1.01, 0.5)}).dump());
   const std::string policy = write("bad.json", replaced(test_policy, "\"alpha\": 0.05", "\"alpha\": \"5%\""));
@@ -290,7 +342,7 @@ TEST_F(GateCommand, BadPolicyIsOneLineAndExitCodeTwo) {
 TEST_F(GateCommand, PrintsTheSuiteForTheNightlyScript) {
   const bench_test::Ending ending = gate({"--policy", (directory_ / "policy.json").string(), "--print-suite", "full"});
   EXPECT_EQ(ending.exit_code, 0) << ending.err;
-  EXPECT_EQ(ending.out, "engines fx2d,box2d,ode\nrounds 5\nsteps 50\nscene pile 600\n");
+  EXPECT_EQ(ending.out, "engines fx2d,box2d,ode\nrounds 8\nsteps 50\nscene pile 600\n");
 }
 
 }  // namespace
