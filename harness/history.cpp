@@ -17,6 +17,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <regex>
 
 #include "commands.h"
 #include "errors.h"
@@ -57,6 +58,27 @@ std::string utc_now() {
   char text[32];
   std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &parts);
   return text;
+}
+
+// --date: a calendar date, or a UTC time on it, as ISO 8601 writes them (2026-11-25,
+// 2026-11-25T02:17:00Z). Both sort as text in time order, which the history's nights rely on, and
+// each field is checked, so that no impossible date (month 13, 30 February) enters the history.
+CLI::Validator iso8601_utc_date() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        static const std::regex shape(R"((\d{4})-(\d{2})-(\d{2})(T(\d{2}):(\d{2}):(\d{2})Z)?)");
+        std::smatch parts;
+        const auto field = [&parts](int index) { return std::stoi(parts[index].str()); };
+        const bool valid =
+            std::regex_match(text, parts, shape) &&
+            std::chrono::year_month_day(std::chrono::year(field(1)), std::chrono::month(static_cast<unsigned>(field(2))),
+                                        std::chrono::day(static_cast<unsigned>(field(3))))
+                .ok() &&
+            (!parts[4].matched || (field(5) < 24 && field(6) < 60 && field(7) < 60));
+        if (valid) return {};
+        return "expected an ISO 8601 UTC date, YYYY-MM-DD or YYYY-MM-DDTHH:MM:SSZ, got '" + text + "'";
+      },
+      "ISO8601");
 }
 
 // --- one night's rows -----------------------------------------------------------------------------
@@ -163,7 +185,7 @@ void register_history(CLI::App& app) {
   add->add_option("--candidate", append->candidate, "Revision judged (B)")->required();
   add->add_option("--baseline", append->baseline, "Accepted baseline revision (A)")->required();
   add->add_option("--policy", append->policy, "Gating policy the night was judged by (default: built-in thresholds)");
-  add->add_option("--date", append->date, "Date of the night, ISO 8601 UTC (default: now)");
+  add->add_option("--date", append->date, "Date of the night, ISO 8601 UTC (default: now)")->check(iso8601_utc_date());
   add->add_flag("--accepted", append->accepted, "The candidate became the new baseline this night");
   add->callback([append] { append_command(*append); });
 

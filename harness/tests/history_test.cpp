@@ -292,6 +292,53 @@ TEST_F(HistoryTest, AppendRecordsTheGateVerdictsStepsAndAcceptance) {
   EXPECT_EQ(parsed["rows"].size(), 8u);  // both appends carry the same --date: one night
 }
 
+// The report and `show --last` read the dates back: only dates that exist, in ISO 8601 UTC.
+TEST_F(HistoryTest, AppendRefusesADateThatIsNotAnIso8601UtcDate) {
+  const auto append_on = [this](const char* date) {
+    std::vector<std::string> arguments = append_arguments(1, "abc123");
+    arguments.back() = date;  // the value of --date
+    return bench_test::run_bench(arguments, directory_);
+  };
+  for (const char* date : {"yesterday", "2026-13-45T99:99:99Z", "2026-02-30", "2026-11-25T24:00:00Z", "2026-11-25 02:17",
+                           "2026-11-25T02:17:00"}) {
+    const Ending ending = append_on(date);
+    EXPECT_EQ(ending.exit_code, 2) << date << ": " << ending.err;
+    EXPECT_EQ(std::ranges::count(ending.err, '\n'), 1) << ending.err;
+    EXPECT_NE(ending.err.find(std::string("--date: expected an ISO 8601 UTC date, YYYY-MM-DD or YYYY-MM-DDTHH:MM:SSZ, got '") +
+                              date + "'"),
+              std::string::npos)
+        << ending.err;
+  }
+  EXPECT_FALSE(fs::exists(history()));
+  for (const char* date : {"2024-02-29", "2026-11-25T02:17:00Z"}) {
+    const Ending ending = append_on(date);
+    ASSERT_EQ(ending.exit_code, 0) << date << ": " << ending.err;
+    EXPECT_EQ(read_history_h5(history()).back().date_utc, date);
+  }
+}
+
+// Each misuse of `history` is one line naming what is wrong, exit code 2 (never 4).
+TEST_F(HistoryTest, EveryMisuseIsOneLineAndExitCodeTwo) {
+  const std::string scene = std::string(FX2D_SOURCE_DIR) + "/scenes/pile.json";
+  const std::string compare = compare_file(1);
+  const std::vector<std::pair<std::vector<std::string>, std::string>> misuses = {
+      {{"history", "append", history(), "--compare", scene, "--candidate", "c", "--baseline", "b"},
+       scene + ": expected a fx2d-bench.compare/1 object"},                                   // wrong file type
+      {{"history", "append", history(), "--compare", compare, "--baseline", "b"}, "--candidate is required"},
+      {{"history", "append", history(), "--compare", compare, "--candidate", "c", "--baseline", "b", "--policy", scene},
+       scene + ": /"},                                                                       // a scene as the policy
+      {{"history", "show", compare}, compare},                                                // JSON as the history
+      {{"history", "show", history(), "--last", "0"}, "--last"},
+      {{"history"}, "A subcommand is required"},                                              // missing argument
+  };
+  for (const auto& [arguments, expected] : misuses) {
+    const Ending ending = bench_test::run_bench(arguments, directory_);
+    EXPECT_EQ(ending.exit_code, 2) << ending.err;
+    EXPECT_EQ(std::ranges::count(ending.err, '\n'), 1) << ending.err;
+    EXPECT_NE(ending.err.find(expected), std::string::npos) << ending.err;
+  }
+}
+
 TEST_F(HistoryTest, ShowRefusesAResultFileInOneLine) {
   std::ofstream(directory_ / "junk.h5") << "junk";
   const Ending ending = bench_test::run_bench({"history", "show", (directory_ / "junk.h5").string()}, directory_);
