@@ -74,6 +74,16 @@ RoundProgressFn round_progress(const SceneSpec& scene) {
   };
 }
 
+// The rounds are judged by a sign test (compare's Method): below its fewest decisive pairs no
+// slowdown, however large, could ever be called `slower`.
+std::string too_few_rounds(int rounds) {
+  const double alpha = CompareSettings{}.rules.alpha;
+  std::ostringstream message;
+  message << rounds << " rounds: the sign test over fewer than " << sign_test_min_pairs(alpha)
+          << " cannot reach p < " << alpha << ", so no slowdown however large can be judged";
+  return message.str();
+}
+
 ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
   if (!options.out.empty() && !options.force && std::filesystem::exists(options.out))
     throw InputError(options.out + ": exists; pass --force to overwrite it");
@@ -106,6 +116,9 @@ ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
     InterleavedRuns runs = measure_interleaved(scene, engine_a, engine_b, plan, round_progress(scene));
     if (isatty(STDERR_FILENO) == 1) std::fputs("\r\x1b[K", stderr);
     results.partial = runs.interrupted;
+    if (runs.a.repeats < sign_test_min_pairs(CompareSettings{}.rules.alpha) && !results.partial)
+      std::cerr << "fx2d-bench: " << scene.name << " " << scene.size << ": --time-budget allowed "
+                << too_few_rounds(runs.a.repeats) << "\n";
     // The count loads the very plugin files just timed, never another build of the same revision.
     for (auto [run, build] : {std::pair{&runs.a, &build_a}, std::pair{&runs.b, &build_b}}) {
       if (!counter || results.partial) continue;
@@ -131,23 +144,18 @@ ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
   return print_compare_report(report, {.json = options.json, .markdown = options.markdown});
 }
 
-// The rounds are judged by a sign test (compare's Method): below its fewest decisive pairs no
-// slowdown, however large, could ever be called `slower`, so such a request is refused.
+// --rounds: refused below the fewest the sign test can decide on.
 CLI::Validator enough_rounds_to_decide() {
-  const double alpha = CompareSettings{}.rules.alpha;
-  const int fewest = sign_test_min_pairs(alpha);
+  const int fewest = sign_test_min_pairs(CompareSettings{}.rules.alpha);
+  const std::string range = "an integer in [" + std::to_string(fewest) + ", 100000]";
   return CLI::Validator(
-      [fewest, alpha](std::string& text) -> std::string {
+      [fewest, range](std::string& text) -> std::string {
         int rounds = 0;
-        if (!CLI::detail::lexical_cast(text, rounds) || rounds < fewest || rounds > 100'000) {
-          std::ostringstream message;
-          message << "expected " << fewest << " to 100000 rounds, got " << text << ": the sign test over fewer than "
-                  << fewest << " rounds cannot reach p < " << alpha << " however the builds differ";
-          return message.str();
-        }
+        if (!CLI::detail::lexical_cast(text, rounds) || rounds > 100'000) return "expected " + range + ", got " + text;
+        if (rounds < fewest) return "expected " + range + "; " + too_few_rounds(rounds);
         return {};
       },
-      "INT in [" + std::to_string(fewest) + " - 100000]");
+      range);
 }
 
 }  // namespace

@@ -187,6 +187,19 @@ TEST(AbRounds, TheFewestRoundsAcceptedAreTheFewestTheSignTestCanDecideOn) {
   EXPECT_LT(p_all_slower(fewest), 0.05);
 }
 
+// A time budget may stop the rounds before they can decide: the output says so.
+TEST_F(AbTest, RoundsCutShortByTheTimeBudgetAreSaidToBeTooFewToDecide) {
+  const Ending ab = run_bench({"ab", "--a", copy_of(FX2D_BENCH_PLUGIN, "a.so"), "--b", copy_of(FX2D_BENCH_PLUGIN, "b.so"),
+                               "pile", "--bodies", "30", "--steps", "10", "--rounds", "6", "--time-budget", "0.001"},
+                              directory_);
+  EXPECT_EQ(ab.exit_code, 3) << ab.err;  // inconclusive: fewer than 3 rounds
+  EXPECT_NE(ab.err.find("fx2d-bench: pile 30: --time-budget allowed "), std::string::npos) << ab.err;
+  EXPECT_NE(ab.err.find(" rounds: the sign test over fewer than 6 cannot reach p < 0.05, so no slowdown however large "
+                        "can be judged\n"),
+            std::string::npos)
+      << ab.err;
+}
+
 // Each misuse of `ab` is one line naming what is wrong, exit code 2 (never 4), before any build.
 TEST_F(AbTest, EveryMisuseIsOneLineAndExitCodeTwo) {
   const std::string scene = std::string(FX2D_SOURCE_DIR) + "/scenes/pile.json";
@@ -196,7 +209,8 @@ TEST_F(AbTest, EveryMisuseIsOneLineAndExitCodeTwo) {
       {{"ab", "--a", plugin}, "--b is required"},                                          // missing argument
       {{"ab", "--a", plugin, "--b", plugin, "--json", "--markdown"}, "excludes"},           // conflicting options
       {{"ab", "--a", plugin, "--b", plugin, "--b-cmake", "-DFX2D_NATIVE=ON"}, "--b-cmake: applies to"},
-      {{"ab", "--a", plugin, "--b", plugin, "--rounds", "3"}, "expected 6 to 100000 rounds, got 3"},
+      {{"ab", "--a", plugin, "--b", plugin, "--rounds", "3"}, "--rounds: expected an integer in [6, 100000]; 3 rounds:"},
+      {{"ab", "--a", plugin, "--b", plugin, "--rounds", "many"}, "--rounds: expected an integer in [6, 100000], got many"},
       {{"ab", "--a", plugin, "--b", plugin, "--counter", "cycles"}, "--counter"},
       {{"ab", "--a", plugin, "--b", plugin, "--force"}, "--force requires --out"},
       {{"ab", "--a", plugin, "--b", plugin, "--rounds"}, "--rounds"},                      // missing value
