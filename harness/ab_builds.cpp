@@ -203,8 +203,8 @@ PluginBuild built_worktree(const std::string& option, const fs::path& checkout, 
   std::vector<std::string> key = cmake_args;
   key.emplace_back(checkout.string());
   const std::string description = joined({"worktree " + checkout.string() + " (of " + head + ")", joined(extra_args)});
-  BuildRequest request{option,  worktree_word, checkout, checkout, fs::path(ab_cache_directory()) / ("worktree-" + build_key(key)),
-                       description, cmake_args};
+  const fs::path directory = fs::path(ab_cache_directory()) / ("worktree-" + build_key(key));
+  BuildRequest request{option, worktree_word, checkout, checkout, directory, description, cmake_args};
   fs::create_directories(request.directory);
   progress_line(side_of(option) + " = " + description + ": building (log " + (request.directory / "build.log").string() + ")");
   configure_and_build(request);
@@ -218,8 +218,8 @@ PluginBuild built_revision(const std::string& option, const std::string& spec, c
   const std::string description =
       joined({spec.starts_with(short_sha) ? short_sha : short_sha + " (" + spec + ")", joined(extra_args)});
   const fs::path directory = fs::path(ab_cache_directory()) / (sha + "-" + build_key(cmake_args));
-  BuildRequest request{option,    spec, repository, directory / "src", directory, joined({short_sha, joined(extra_args)}),
-                       cmake_args};
+  const std::string plugin_description = joined({short_sha, joined(extra_args)});
+  BuildRequest request{option, spec, repository, directory / "src", directory, plugin_description, cmake_args};
   const std::string side = side_of(option);
   if (fs::exists(directory / "complete") && fs::exists(built_plugin(request))) {
     progress_line(side + " = " + description + ": cached build " + directory.string());
