@@ -53,10 +53,12 @@ struct EngineCapabilities {
   std::vector<ShapeKind> shapes{ShapeKind::circle, ShapeKind::box, ShapeKind::polygon};
   std::vector<JointKind> joints{JointKind::distance, JointKind::revolute};
   std::size_t max_bodies = std::numeric_limits<std::size_t>::max();
+  double max_linear_speed = std::numeric_limits<double>::infinity();  // m/s, of any body at the start
 };
 
 // What `scene` needs that `capabilities` lack, as a phrase that completes "cannot build ..."
-// ("polygons", "distance joints", "more than 65536 bodies"); nullopt when it can build it all.
+// ("polygons", "distance joints", "more than 65536 bodies", "bodies faster than 400 m/s");
+// nullopt when it can build it all.
 std::optional<std::string> missing_capability(const EngineCapabilities& capabilities, const SceneSpec& scene);
 
 struct EngineInfo {

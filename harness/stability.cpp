@@ -84,6 +84,9 @@ TestResult search_test(const StabilityOptions& options, const EngineInfo& engine
     outcome.overrides.push_back(assignments_text(test.overrides(parameter)));
     const SceneSpec scene = load_test_scene(test, options.suite_dir, sets, parameter);
     if (outcome.settings.empty()) outcome.settings = nlohmann::json::parse(scene.resolved_json)["solver"][engine.solver].dump();
+    // A stress the engine cannot even build (Fx2D's speed limit on thin_wall) is where it stops holding.
+    if (const std::optional<std::string> missing = missing_capability(engine.capabilities, scene))
+      return Verdict{false, engine.name + " cannot build " + *missing};
     return test.judge(scene, simulate(scene, engine, test.sample_every));
   };
   outcome.result = find_boundary(outcome.search, evaluate);

@@ -1,5 +1,7 @@
 // Whether an engine can build a scene: the check every command makes before measuring (engine.h).
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 
 #include "engine.h"
 
@@ -31,6 +33,14 @@ std::optional<std::string> missing_capability(const EngineCapabilities& capabili
            std::to_string(scene.bodies.size()) + ")";
   for (const BodySpec& body : scene.bodies)
     if (std::ranges::find(capabilities.shapes, body.shape) == capabilities.shapes.end()) return plural_name(body.shape);
+  for (const BodySpec& body : scene.bodies) {
+    const double speed = std::hypot(body.linear_velocity.x, body.linear_velocity.y);
+    if (speed > capabilities.max_linear_speed) {
+      char text[96];
+      std::snprintf(text, sizeof text, "bodies faster than %g m/s (one starts at %g m/s)", capabilities.max_linear_speed, speed);
+      return text;
+    }
+  }
   for (const JointSpec& joint : scene.joints)
     if (std::ranges::find(capabilities.joints, joint.kind) == capabilities.joints.end()) return plural_name(joint.kind);
   return std::nullopt;

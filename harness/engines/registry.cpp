@@ -15,7 +15,7 @@ namespace fxbench {
 
 std::span<const EngineInfo> engine_registry() {
   static const EngineInfo engines[] = {
-      {"fx2d", std::string(fx2d::fx_version()), fx2d_settings_description, &make_fx2d_engine, "fx2d", EngineCapabilities{}},
+      {"fx2d", std::string(fx2d::fx_version()), fx2d_settings_description, &make_fx2d_engine, "fx2d", fx2d_capabilities},
       {"box2d", FX2D_BENCH_BOX2D_VERSION,
        "b2World::Step with box2d.velocity_iterations and box2d.position_iterations, sleeping per box2d.sleeping; "
        "one friction (the dynamic one)",

@@ -50,6 +50,7 @@ def sparse_gigabyte(cwd):
     with open(os.path.join(cwd, "sparse.json"), "wb") as sparse:
         sparse.truncate(1 << 30)
 
+FAST_BODY = '/bodies/-={"shape": {"circle": 0.1}, "position": [0, 50], "velocity": [500, 0]}'
 SHORT = ["--steps", "3", "--repeats", "1"]
 
 MISUSES = [
@@ -62,6 +63,8 @@ MISUSES = [
            "two engines are named fx2d"),
     Misuse("run: an engine that cannot build the scene", ["run", "pile", "scenes/tests/polygon_and_joint.json",
            "--engine", "ode", "--out", "f.h5"] + SHORT, "engine ode cannot build polygons"),
+    Misuse("run: a body faster than the engine takes", ["run", "--engine", "fx2d", "--set", FAST_BODY],
+           "engine fx2d cannot build bodies faster than 400 m/s"),
     Misuse("run: no steps to measure", ["run", "pile", "--set", "/steps=0"], "/steps is 0"),
     Misuse("run: /dev/zero", ["run", "/dev/zero"], "more than 16 MiB", seconds=INPUT_LIMIT_SECONDS),
     Misuse("run: a FIFO that streams without end", ["run", "endless"], "more than 16 MiB",
@@ -193,12 +196,23 @@ def check_stability_records_a_plugins_settings():
     return []
 
 
+def check_stability_stops_where_an_engine_cannot_build():
+    """stability's thin_wall on fx2d ends at Fx2D's speed limit, as a failure that says so, not in exit 4."""
+    cwd = scratch_directory()
+    ended, _ = bench(["stability", "--engine", "fx2d", "--test", "thin_wall", "--json"], cwd)
+    if ended.returncode != 0:
+        return [f"exit code {ended.returncode}: {ended.stderr.strip()}"]
+    failure = json.loads(ended.stdout)["results"][0]["failure"]
+    return [] if "fx2d cannot build bodies faster than 400 m/s" in failure else [f"failure {failure!r}"]
+
+
 def main():
     failures = 0
     checks = [(row.name, lambda row=row: check_misuse(row)) for row in MISUSES]
     checks += [(check.__doc__.splitlines()[0], check) for check in (
         check_unbuildable_scene_is_skipped_with_all, check_scene_from_a_generator,
-        check_sweep_marks_the_default_among_other_time_steps, check_stability_records_a_plugins_settings)]
+        check_sweep_marks_the_default_among_other_time_steps, check_stability_records_a_plugins_settings,
+        check_stability_stops_where_an_engine_cannot_build)]
     for name, check in checks:
         problems = check()
         failures += bool(problems)

@@ -11,6 +11,8 @@ applies to the next fenced or indented block, or to the next `inline code` in th
     <!-- doc-test: ci; exit=0,3 -->               each command may exit with one of these
     <!-- doc-test: ci; setup: CMD; setup: CMD --> shell commands run first (they must succeed)
     <!-- doc-test: nightly; in source -->        run in the checkout itself (ab and git need it)
+
+A marked ```python block runs as one script with /usr/bin/python3 (after its setup) and must succeed.
     <!-- doc-test: ci; stderr of: CMD; stderr of: CMD -->
         the code is not run: its lines are the one-line errors the commands print, in order
         (exit code 2 unless exit= says otherwise); `...` in a line matches any text, and the
@@ -62,6 +64,7 @@ class Example:
     lines: list       # the code's lines
     is_command: bool  # an unmarked block of this kind is an error
     marker: Marker = None
+    language: str = ""
 
 
 def parse_marker(text, where):
@@ -90,20 +93,20 @@ def parse_marker(text, where):
 
 
 def blocks_of(lines):
-    """Each code block as (first line index, one past its end, its lines, whether it holds commands)."""
+    """Each code block as (first line index, one past its end, its lines, its language)."""
     blocks, i = [], 0
     while i < len(lines):
         fence = FENCE.match(lines[i])
         if fence:
             end = next(j for j in range(i + 1, len(lines)) if lines[j].strip() == "```")
             indent = len(fence.group(1))
-            blocks.append((i, end + 1, [text[indent:] for text in lines[i + 1:end]], fence.group(2) in COMMAND_LANGUAGES))
+            blocks.append((i, end + 1, [text[indent:] for text in lines[i + 1:end]], fence.group(2)))
             i = end + 1
         elif lines[i].startswith("    ") and i > 0 and not lines[i - 1].strip():
             end = i
             while end < len(lines) and (lines[end].startswith("    ") or not lines[end].strip()):
                 end += 1
-            blocks.append((i, end, [text[4:] for text in lines[i:end] if text.strip()], True))
+            blocks.append((i, end, [text[4:] for text in lines[i:end] if text.strip()], "sh"))
             i = end
         else:
             i += 1
@@ -131,9 +134,9 @@ def examples_of(path):
         if not following:
             raise SystemExit(f"{where}: doc-test marker with no code after it")
         marked[following[0][0]] = (where, marker)
-    for first, _, body, is_command in blocks:
+    for first, _, body, language in blocks:
         where, marker = marked.get(first, (f"{path}:{first + 1}", None))
-        examples.append(Example(where, body, is_command, marker))
+        examples.append(Example(where, body, language in COMMAND_LANGUAGES, marker, language))
     return examples
 
 
@@ -193,6 +196,9 @@ def check(example, source, bench):
                     problems.append(f"`{command}` exited {ended.returncode} printing {printed!r}; "
                                     f"the document says {expected!r} (exit {allowed})")
             return problems
+        if example.language == "python":  # one script, as a reader would paste it
+            ended = shell("/usr/bin/python3 - <<'DOC_EXAMPLE'\n" + "\n".join(example.lines) + "\nDOC_EXAMPLE", cwd, bench, source)
+            return [] if ended.returncode == 0 else [f"the Python example failed: {(ended.stderr.strip().splitlines() or [''])[-1]}"]
         for command in commands_of(example.lines):
             ended = shell(command, cwd, bench, source)
             allowed = marker.exit_codes or [0]
