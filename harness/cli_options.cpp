@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <iostream>
+#include <optional>
 
 #include "engines/plugin_engine.h"
 #include "errors.h"
@@ -49,7 +51,12 @@ std::vector<SceneSpec> SceneOptions::load() const {
     overrides.sets.emplace_back(assignment.substr(0, equals), assignment.substr(equals + 1));
   }
   std::vector<SceneSpec> specs;
-  for (const std::string& scene : scenes) specs.push_back(load_scene_argument(scene, overrides));
+  for (const std::string& scene : scenes) {
+    specs.push_back(load_scene_argument(scene, overrides));
+    // The format allows a scene of no steps, but there is nothing in one to time or sample.
+    if (specs.back().steps == 0)
+      throw InputError("scene " + specs.back().name + ": /steps is 0; every measuring command needs at least 1 step");
+  }
   return specs;
 }
 
@@ -74,7 +81,32 @@ std::vector<const EngineInfo*> EngineOptions::selected() const {
     if (all || std::ranges::find(names, engine.name) != names.end()) engines.push_back(&engine);
   for (const std::string& name : names)  // plugins after the registry's engines, in the order given
     if (is_plugin_engine_name(name)) engines.push_back(find_engine(name));
+  for (auto engine = engines.begin(); engine != engines.end(); ++engine) {
+    if (std::ranges::find(engines.begin(), engine, (*engine)->name, &EngineInfo::name) != engine)
+      throw InputError("--engine: two engines are named " + (*engine)->name +
+                       "; give each plugin a label of its own (plugin:PATH|LABEL)");
+  }
   return engines;
+}
+
+bool EngineOptions::came_with_all(const EngineInfo& engine) const {
+  const bool in_registry = std::ranges::any_of(engine_registry(), [&](const EngineInfo& entry) { return &entry == &engine; });
+  return in_registry && std::ranges::find(names, engine.name) == names.end();
+}
+
+std::vector<const EngineInfo*> EngineOptions::able_to_build(const SceneSpec& scene) const {
+  std::vector<const EngineInfo*> able;
+  for (const EngineInfo* engine : selected()) {
+    const std::optional<std::string> missing = missing_capability(engine->capabilities, scene);
+    if (!missing) {
+      able.push_back(engine);
+      continue;
+    }
+    if (!came_with_all(*engine)) throw InputError("scene " + scene.name + ": engine " + engine->name + " cannot build " + *missing);
+    std::cerr << "fx2d-bench: scene " << scene.name << ": skipping " << engine->name << ", which cannot build "
+              << *missing << '\n';
+  }
+  return able;
 }
 
 }  // namespace fxbench

@@ -34,7 +34,17 @@ struct EngineOptions {
   std::vector<std::string> names{"all"};
 
   void add_to(CLI::App& command);
+  // Throws InputError when two of them would be recorded under one name (a plugin labelled fx2d
+  // beside fx2d): results could not tell them apart.
   std::vector<const EngineInfo*> selected() const;
+  // The selected engines that can build `scene` (EngineCapabilities). An engine named on the
+  // command line that cannot is refused with InputError; one that came with `all` is left out,
+  // with a line on stderr saying so.
+  std::vector<const EngineInfo*> able_to_build(const SceneSpec& scene) const;
+
+ private:
+  // A registry engine selected by `all` rather than by its own name.
+  bool came_with_all(const EngineInfo& engine) const;
 };
 
 }  // namespace fxbench

@@ -10,6 +10,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -45,6 +46,21 @@ class Engine {
   virtual void read_state(std::vector<BodyState>& out) const = 0;
 };
 
+// What an engine can build. Every command checks each scene against it before measuring anything,
+// so a scene an engine cannot represent is refused up front (or, when the engine was not named but
+// taken from `all`, skipped) rather than failing after the engines before it were measured.
+struct EngineCapabilities {
+  std::vector<ShapeKind> shapes{ShapeKind::circle, ShapeKind::box, ShapeKind::polygon};
+  std::vector<JointKind> joints{JointKind::distance, JointKind::revolute};
+  std::size_t max_bodies = std::numeric_limits<std::size_t>::max();
+  double max_linear_speed = std::numeric_limits<double>::infinity();  // m/s, of any body at the start
+};
+
+// What `scene` needs that `capabilities` lack, as a phrase that completes "cannot build ..."
+// ("polygons", "distance joints", "more than 65536 bodies", "bodies faster than 400 m/s");
+// nullopt when it can build it all.
+std::optional<std::string> missing_capability(const EngineCapabilities& capabilities, const SceneSpec& scene);
+
 struct EngineInfo {
   std::string name;       // what --engine selects: "fx2d", "box2d", "ode", or a plugin's name
   std::string version;    // the library's version, e.g. "2.4.1"; a plugin adds which build it is
@@ -52,8 +68,7 @@ struct EngineInfo {
   // Makes a fresh, unbuilt instance. A function object, so a plugin's entry can hold its library.
   std::function<std::unique_ptr<Engine>()> make;
   std::string solver;     // the scene's /solver/<solver> block it reads: "fx2d" for an Fx2D plugin
-  // The most bodies build() accepts; commands refuse a larger scene before measuring anything.
-  std::size_t max_bodies = std::numeric_limits<std::size_t>::max();
+  EngineCapabilities capabilities;
 };
 
 // Every engine the harness knows, in a fixed order.

@@ -6,12 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <initializer_list>
-#include <iterator>
 #include <map>
 #include <sstream>
 
+#include "bounded_read.h"
 #include "compare.h"
 #include "statistics.h"
 
@@ -333,9 +332,7 @@ Policy parse_policy(const std::string& text, const std::string& label) {
 }
 
 Policy read_policy(const std::string& path) {
-  std::ifstream stream(path);
-  if (!stream) throw InputError(path + ": cannot read the gating policy");
-  return parse_policy({std::istreambuf_iterator<char>(stream), {}}, path);
+  return parse_policy(read_bounded_file(path, "a gating policy"), path);
 }
 
 nlohmann::ordered_json ratio_json(const std::string& engine, const std::string& scene, int bodies,
@@ -384,9 +381,7 @@ GateReport judge(const json& compare, const std::string& label, const Policy& po
 GateReport judge_files(const std::vector<std::string>& compare_paths, const Policy& policy) {
   GateReport report;
   for (const std::string& path : compare_paths) {
-    std::ifstream stream(path);
-    if (!stream) throw InputError(path + ": no such file or not readable");
-    const json compare = json::parse(stream, nullptr, false);
+    const json compare = json::parse(read_bounded_file(path, "fx2d-bench compare --json output"), nullptr, false);
     if (compare.is_discarded()) throw InputError(path + ": not valid JSON; expected fx2d-bench compare --json output");
     judge_rows(compare, path, policy, report.rows);
   }

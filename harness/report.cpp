@@ -17,7 +17,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -25,6 +24,7 @@
 #include <string_view>
 #include <vector>
 
+#include "bounded_read.h"
 #include "child_process.h"
 #include "commands.h"
 #include "compare.h"
@@ -103,9 +103,8 @@ void check_h5_input(const std::string& path) {
 }
 
 void check_compare_json(const std::string& path) {
-  std::ifstream stream(path);
-  if (!stream) throw InputError(path + ": no such file");
-  const nlohmann::json report = nlohmann::json::parse(stream, nullptr, false);
+  const nlohmann::json report =
+      nlohmann::json::parse(read_bounded_file(path, "the output of fx2d-bench compare --json"), nullptr, false);
   if (report.is_discarded()) throw InputError(path + ": not JSON; expected the output of fx2d-bench compare --json");
   if (!report.is_object() || report.value("schema", "") != compare_schema)
     throw InputError(path + ": expected a " + std::string(compare_schema) + " object (fx2d-bench compare --json)");

@@ -123,16 +123,21 @@ std::string lookup_name(const EngineOptions& options, const EngineInfo& engine) 
   return engine.name;
 }
 
-// An engine that cannot build a scene would fail only after the engines before it were measured.
-void check_engine_capacity(const std::vector<SceneSpec>& scenes, const std::vector<const EngineInfo*>& engines) {
-  for (const SceneSpec& scene : scenes) {
-    for (const EngineInfo* engine : engines) {
-      if (scene.bodies.size() > engine->max_bodies) {
-        throw InputError("scene " + scene.name + ": " + std::to_string(scene.bodies.size()) + " bodies; engine " +
-                         engine->name + " takes at most " + std::to_string(engine->max_bodies));
-      }
-    }
+// Each scene with the engines that run it, settled before anything is measured: an engine that
+// cannot build a scene is refused or skipped now (EngineOptions::able_to_build), never after the
+// engines before it have been measured.
+struct SceneEngines {
+  SceneSpec scene;
+  std::vector<const EngineInfo*> engines;
+};
+
+std::vector<SceneEngines> plan_engines(std::vector<SceneSpec> scenes, const EngineOptions& options) {
+  std::vector<SceneEngines> planned;
+  for (SceneSpec& scene : scenes) {
+    std::vector<const EngineInfo*> engines = options.able_to_build(scene);
+    planned.push_back({std::move(scene), std::move(engines)});
   }
+  return planned;
 }
 
 void run_command(const RunOptions& options, const std::string& command_line) {
@@ -141,19 +146,19 @@ void run_command(const RunOptions& options, const std::string& command_line) {
   const std::optional<InstructionCounter> counter =
       options.counter.empty() ? std::nullopt : std::optional<InstructionCounter>(std::in_place);
   const ScopedInterruptHandler interrupts;  // interrupt.h: Ctrl-C saves what was measured
-  const std::vector<SceneSpec> scenes = options.scenes.load();
+  std::vector<SceneSpec> scenes = options.scenes.load();
   check_sample_budget(scenes, options);
-  const std::vector<const EngineInfo*> engines = options.engines.selected();
-  check_engine_capacity(scenes, engines);
+  const std::vector<SceneEngines> planned = plan_engines(std::move(scenes), options.engines);
 
   ResultSet results;
   results.provenance = collect_provenance(command_line, measure_counter_ghz());
   long total_steps = 0;
-  for (const SceneSpec& scene : scenes) total_steps += planned_steps(scene, plan_for(options, scene)) * static_cast<long>(engines.size());
+  for (const auto& [scene, engines] : planned)
+    total_steps += planned_steps(scene, plan_for(options, scene)) * static_cast<long>(engines.size());
 
   ProgressBar progress(total_steps);
   long steps_before = 0;
-  for (const SceneSpec& scene : scenes) {
+  for (const auto& [scene, engines] : planned) {
     if (results.partial) break;  // interrupt.h
     if (std::ranges::find(results.scenes, scene.hash, &SceneRecord::hash) == results.scenes.end())
       results.scenes.push_back(scene_record(scene));

@@ -83,7 +83,10 @@ TestResult search_test(const StabilityOptions& options, const EngineInfo& engine
     show_progress(engine, test, parameter);
     outcome.overrides.push_back(assignments_text(test.overrides(parameter)));
     const SceneSpec scene = load_test_scene(test, options.suite_dir, sets, parameter);
-    if (outcome.settings.empty()) outcome.settings = nlohmann::json::parse(scene.resolved_json)["solver"][engine.name].dump();
+    if (outcome.settings.empty()) outcome.settings = nlohmann::json::parse(scene.resolved_json)["solver"][engine.solver].dump();
+    // A stress the engine cannot even build (Fx2D's speed limit on thin_wall) is where it stops holding.
+    if (const std::optional<std::string> missing = missing_capability(engine.capabilities, scene))
+      return Verdict{false, engine.name + " cannot build " + *missing};
     return test.judge(scene, simulate(scene, engine, test.sample_every));
   };
   outcome.result = find_boundary(outcome.search, evaluate);
@@ -122,9 +125,11 @@ std::string table_of(const std::vector<TestResult>& results, const std::vector<c
   for (const StabilityTest* test : tests) {
     const bool increasing = test->search.harder == Harder::increasing;
     rows.push_back({test->name, test->parameter + " (" + test->units + ", " + (increasing ? "higher" : "lower") + " is better)"});
-    for (const EngineInfo* engine : engines)
-      for (const TestResult& outcome : results)
-        if (outcome.engine == engine && outcome.test == test) rows.back().push_back(cell(outcome));
+    for (const EngineInfo* engine : engines) {
+      const auto outcome = std::ranges::find_if(
+          results, [&](const TestResult& result) { return result.engine == engine && result.test == test; });
+      rows.back().push_back(outcome == results.end() ? "cannot build" : cell(*outcome));
+    }
   }
   std::string text = aligned_columns(rows);
   for (const EngineInfo* engine : engines)
@@ -256,9 +261,15 @@ void stability_command(const StabilityOptions& options, const std::string& comma
     throw InputError(options.out + ": exists; pass --force to overwrite it");
   const std::vector<const EngineInfo*> engines = options.engines.selected();
   const std::vector<const StabilityTest*> tests = selected_tests(options);
+  // Which engines can build each test's scene, settled before any search starts.
+  std::vector<std::vector<const EngineInfo*>> able(tests.size());
+  for (std::size_t t = 0; t < tests.size(); ++t)
+    able[t] = options.engines.able_to_build(
+        load_test_scene(*tests[t], options.suite_dir, user_sets(options.sets), tests[t]->search.start));
   std::vector<TestResult> results;
   for (const EngineInfo* engine : engines)
-    for (const StabilityTest* test : tests) results.push_back(search_test(options, *engine, *test));
+    for (std::size_t t = 0; t < tests.size(); ++t)
+      if (std::ranges::find(able[t], engine) != able[t].end()) results.push_back(search_test(options, *engine, *tests[t]));
   if (isatty(STDERR_FILENO) == 1) std::fputs("\r\x1b[K", stderr);
 
   if (options.json)

@@ -114,7 +114,7 @@ Knobs default_knobs(const SceneSpec& scene, const std::vector<KnobAxis>& axes, c
 }
 
 // Every combination of the engine's axes, first axis slowest, then the default when missing; the
-// whole once per time step.
+// whole once per time step; then the scene's own point when no time step asked is the scene's.
 std::vector<GridPoint> grid_of(const std::vector<KnobAxis>& axes, const std::string& engine, const Knobs& defaults,
                                const std::vector<double>& dts, double scene_dt) {
   std::vector<Knobs> combinations{{}};
@@ -133,6 +133,7 @@ std::vector<GridPoint> grid_of(const std::vector<KnobAxis>& axes, const std::str
   std::vector<GridPoint> grid;
   for (double dt : dts.empty() ? std::vector<double>{scene_dt} : dts)
     for (const Knobs& knobs : combinations) grid.push_back({knobs, dt, knobs == defaults && dt == scene_dt});
+  if (std::ranges::none_of(grid, &GridPoint::is_default)) grid.push_back({defaults, scene_dt, true});
   return grid;
 }
 
@@ -159,7 +160,7 @@ SceneSpec load_point(const SceneOptions& base_options, const std::string& scene,
   for (std::size_t k = 0; k < point.knobs.size(); ++k) {
     const auto& [key, value] = point.knobs[k];
     if (value != grid.defaults[k].second)
-      options.sets.push_back("/solver/" + grid.engine->name + "/" + key + "=" + std::to_string(value));
+      options.sets.push_back("/solver/" + grid.engine->solver + "/" + key + "=" + std::to_string(value));
   }
   if (point.dt != base.dt) {
     const long steps = std::max(1L, std::lround(base.steps * base.dt / point.dt));
@@ -221,9 +222,9 @@ std::vector<PlannedScene> plan_sweep(const SweepOptions& options) {
     SceneOptions one = options.scenes;
     one.scenes = {argument};
     PlannedScene scene{argument, one.load().front(), {}};
-    for (const EngineInfo* engine : options.engines.selected()) {
-      Knobs defaults = default_knobs(scene.base, options.axes, engine->name);
-      std::vector<GridPoint> points = grid_of(options.axes, engine->name, defaults, options.dts, scene.base.dt);
+    for (const EngineInfo* engine : options.engines.able_to_build(scene.base)) {
+      Knobs defaults = default_knobs(scene.base, options.axes, engine->solver);
+      std::vector<GridPoint> points = grid_of(options.axes, engine->solver, defaults, options.dts, scene.base.dt);
       scene.grids.push_back({engine, std::move(defaults), std::move(points)});
     }
     plan.push_back(std::move(scene));

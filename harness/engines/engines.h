@@ -14,9 +14,15 @@ std::unique_ptr<Engine> make_fx2d_engine();
 std::unique_ptr<Engine> make_box2d_engine();
 std::unique_ptr<Engine> make_ode_engine();
 
-// The hash space's n x n bit table is 512 MiB at this size, cleared every step (engines/ode.cpp):
-// the largest scene worth waiting for, and half the size at which ODE itself aborts.
-inline constexpr std::size_t ode_max_bodies = 65'536;
+// No polygons: ODE 0.16's convex-box collider yields one contact point, so a polygon cannot rest
+// on a face. At most 65,536 bodies: the hash space's n x n bit table is 512 MiB at this size,
+// cleared every step (engines/ode.cpp), the largest scene worth waiting for, and half the size at
+// which ODE itself aborts.
+inline const EngineCapabilities ode_capabilities{
+    .shapes = {ShapeKind::circle, ShapeKind::box},
+    .joints = {JointKind::distance, JointKind::revolute},
+    .max_bodies = 65'536,
+};
 
 // How far ODE's bodies have left the plane z = 0, the largest over all bodies. ODE simulates in
 // 3D and the adapter holds it to 2D with plane-2D joints plus a flattening pass after each step;

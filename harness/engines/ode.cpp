@@ -53,7 +53,7 @@ constexpr dReal box_depth = 1.0;  // metres; the 2D density becomes kg/m^3 over 
 constexpr int max_contacts_per_pair = 4;
 // Box2D's b2_velocityThreshold: slower impacts are inelastic, so restitution acts alike in both.
 constexpr dReal bounce_threshold = 1.0;  // m/s
-constexpr std::size_t max_bodies = ode_max_bodies;
+const std::size_t max_bodies = ode_capabilities.max_bodies;
 
 void ensure_ode_ready_on_this_thread() {
   static const int initialised = dInitODE2(0);

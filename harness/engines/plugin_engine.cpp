@@ -184,6 +184,7 @@ EngineInfo plugin_engine_info(std::shared_ptr<const Plugin> plugin, std::string 
   info.settings = fx2d_settings_description;
   info.make = [plugin = std::move(plugin)] { return make_plugin_engine(plugin); };
   info.solver = "fx2d";
+  info.capabilities = fx2d_capabilities;
   return info;
 }
 

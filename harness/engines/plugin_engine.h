@@ -22,6 +22,11 @@ namespace fxbench {
 inline constexpr const char* fx2d_settings_description =
     "fx2d.substeps substeps x fx2d.velocity_passes velocity passes, sleeping per fx2d.sleeping";
 
+// What an Fx2D engine, built in or plugged in, can build: any shape and joint, bodies no faster
+// than FxSceneSettings::max_linear_speed (checked against the built-in engine in engines/fx2d.cpp).
+inline constexpr double fx2d_max_linear_speed = 400.0;  // m/s
+inline const EngineCapabilities fx2d_capabilities{.max_linear_speed = fx2d_max_linear_speed};
+
 // One plugin's function table and the library that holds it (none for a linked-in table).
 class Plugin {
  public:

@@ -15,15 +15,15 @@ namespace fxbench {
 
 std::span<const EngineInfo> engine_registry() {
   static const EngineInfo engines[] = {
-      {"fx2d", std::string(fx2d::fx_version()), fx2d_settings_description, &make_fx2d_engine, "fx2d"},
+      {"fx2d", std::string(fx2d::fx_version()), fx2d_settings_description, &make_fx2d_engine, "fx2d", fx2d_capabilities},
       {"box2d", FX2D_BENCH_BOX2D_VERSION,
        "b2World::Step with box2d.velocity_iterations and box2d.position_iterations, sleeping per box2d.sleeping; "
        "one friction (the dynamic one)",
-       &make_box2d_engine, "box2d"},
+       &make_box2d_engine, "box2d", EngineCapabilities{}},
       {"ode", FX2D_BENCH_ODE_VERSION,
        "dWorldQuickStep with ode.iterations, ode.erp, ode.cfm, auto-disable per ode.auto_disable; plane-2D joints, "
        "1 m deep boxes, circles as spheres, friction pyramid",
-       &make_ode_engine, "ode", ode_max_bodies},
+       &make_ode_engine, "ode", ode_capabilities},
   };
   return engines;
 }
