@@ -18,6 +18,7 @@
 #include <cmath>
 #include <string>
 
+#include "step_context.h"
 #include "world.h"
 
 namespace fx2d::detail {
@@ -123,12 +124,13 @@ void World::step() {
   stepping = true;
   {
     StageClock clock(profile, FxStage::broad_phase);
+    const StepContext context(settings, static_cast<std::uint32_t>(records.size()), clock);
     update_broad_phase();
     clock.switch_to(FxStage::narrow_phase);
     update_contacts();
     clock.switch_to(FxStage::velocity_passes);
-    prepare_solver();
-    solve_substeps(clock);
+    prepare_solver(context);
+    solve_substeps(context);
     clock.switch_to(FxStage::position_solve);
     solve_positions();
     clock.switch_to(FxStage::integration);
@@ -153,13 +155,23 @@ void World::step() {
 #endif
 }
 
-void World::prepare_solver() {
+StepContext::StepContext(const FxSceneSettings& s, std::uint32_t bodies, StageClock& stage_clock)
+    : settings(s),
+      substep_dt(s.dt / static_cast<float>(s.substeps)),
+      // Any more would take a body past max_linear_speed within one substep, where it is clamped anyway.
+      max_acceleration(2.0f * s.max_linear_speed / substep_dt),
+      limits{s.max_linear_speed, max_angular_speed(s)},
+      contact{make_softness(capped_hertz(s.contact_hertz, substep_dt), s.contact_damping_ratio, substep_dt),
+              1.0f / substep_dt, s.max_push_speed},
+      joint_softness(make_softness(capped_hertz(s.joint_hertz, substep_dt), s.joint_damping_ratio, substep_dt)),
+      body_count(bodies),
+      clock(stage_clock) {}
+
+void World::prepare_solver(const StepContext& step) {
   // Gather the hot state of every body; sleeping and static ones keep zero velocity and are
   // never written by a constraint (a touching constraint always has its bodies awake).
-  integration.clear(static_cast<std::uint32_t>(records.size()));
-  const float h = settings.dt / static_cast<float>(settings.substeps);
-  // Any more would take a body past max_linear_speed within one substep, where it is clamped anyway.
-  const float max_acceleration = 2.0f * settings.max_linear_speed / h;
+  integration.clear(step.body_count);
+  const float h = step.substep_dt;
   states.resize(records.size() + 1);
   states.back() = FxBodyState{};
   movable.resize(records.size() + 1);
@@ -174,29 +186,25 @@ void World::prepare_solver() {
     state.angular_velocity = sims[i].angular_velocity;
     integration.add_moving(i);
     if (records[i].type != FxBodyType::dynamic) continue;
-    integration.add_dynamic(i, clamped_acceleration(settings.gravity + sims[i].inv_mass * sims[i].force, max_acceleration),
+    integration.add_dynamic(i, clamped_acceleration(settings.gravity + sims[i].inv_mass * sims[i].force, step.max_acceleration),
                             1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping));
   }
   integration.finish();
   solver.prepare(*this);
   contact_graph.build(solver.constraints, movable);
-  contact_batches.pack(solver.constraints, contact_graph, static_cast<std::uint32_t>(records.size()));
+  contact_batches.pack(solver.constraints, contact_graph, step.body_count);
 }
 
-void World::solve_substeps(StageClock& clock) {
-  const float h = settings.dt / static_cast<float>(settings.substeps);
-  ContactSolveParams params;
-  params.inv_substep_dt = 1.0f / h;
-  params.max_push_speed = settings.max_push_speed;
-  params.softness = make_softness(capped_hertz(settings.contact_hertz, h), settings.contact_damping_ratio, h);
-
+void World::solve_substeps(const StepContext& step) {
+  const float h = step.substep_dt;
+  StageClock& clock = step.clock;
   WorldConstraintContext context(*this);
   context.substep_dt = h;
-  context.inv_substep_dt = params.inv_substep_dt;
-  context.softness = make_softness(capped_hertz(settings.joint_hertz, h), settings.joint_damping_ratio, h);
+  context.inv_substep_dt = step.contact.inv_substep_dt;
+  context.softness = step.joint_softness;
   context.max_bias_velocity = settings.max_push_speed;
-  context.max_linear_speed = settings.max_linear_speed;
-  context.max_angular_speed = max_angular_speed(settings);
+  context.max_linear_speed = step.limits.max_speed;
+  context.max_angular_speed = step.limits.max_spin;
   const bool has_constraints = !constraints.empty();
   if (has_constraints) {
     clock.switch_to(FxStage::constraints);
@@ -210,10 +218,10 @@ void World::solve_substeps(StageClock& clock) {
       for (const auto& constraint : constraints) constraint->evaluate(context, use_bias);
     }
     clock.switch_to(FxStage::velocity_passes);
-    contact_batches.resolve_velocities(states, params, use_bias, settings.force_scalar_solver);
+    contact_batches.resolve_velocities(states, step.contact, use_bias, settings.force_scalar_solver);
   };
 
-  const SpeedLimits limits{settings.max_linear_speed, max_angular_speed(settings)};
+  const SpeedLimits limits = step.limits;
   clock.switch_to(FxStage::velocity_passes);
   contact_batches.update_separations(states);
   for (int substep = 0; substep < settings.substeps; ++substep) {

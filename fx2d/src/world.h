@@ -32,6 +32,8 @@
 
 namespace fx2d::detail {
 
+struct StepContext;
+
 struct BodyRecord {
   std::shared_ptr<FxEntity> handle;
   FxShape shape;
@@ -101,8 +103,8 @@ class World final {
   void create_contact(std::uint32_t a, std::uint32_t b);
   bool jointed(std::uint32_t a, std::uint32_t b) const;
   void update_contacts();
-  void prepare_solver();
-  void solve_substeps(StageClock& clock);
+  void prepare_solver(const StepContext& step);
+  void solve_substeps(const StepContext& step);
   void solve_positions();
   void finalize_bodies();
   void update_sleep();
