@@ -1,9 +1,23 @@
 #include "body_integration.h"
 
+#include <cmath>
+
 #include "lane_rows.h"
-#include "world.h"
 
 namespace fx2d::detail {
+
+FxVec2f slowed_to(FxVec2f v, float max_speed) {
+  const float speed_squared = length_squared(v);
+  if (std::isfinite(speed_squared)) return v * (max_speed / std::sqrt(speed_squared));
+  // Overflowed, or not a number: keep the direction of the largest components, or the infinite
+  // components' signs alone; a NaN component counts as zero.
+  if (!is_finite(v)) {
+    v = {std::isinf(v.x) ? std::copysign(1.0f, v.x) : 0.0f, std::isinf(v.y) ? std::copysign(1.0f, v.y) : 0.0f};
+  }
+  const float largest = std::max(std::fabs(v.x), std::fabs(v.y));
+  return largest > 0.0f ? max_speed * normalize((1.0f / largest) * v) : FxVec2f{};
+}
+
 namespace {
 
 // The rare lanes the vectorised limit did not cover: faster than max_speed, overflowed or NaN.
