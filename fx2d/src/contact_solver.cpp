@@ -1,3 +1,6 @@
+// Contact constraints built from the cache for one step, and the parts solved contact by contact
+// (contact_solver.h): restitution after the substeps, the position projection, and the storage of
+// impulses for the next step's warm start.
 #include "contact_solver.h"
 
 #include <algorithm>

@@ -28,7 +28,7 @@ struct SolverData {
   std::vector<std::uint8_t> movable;  // per body (and the padding slot): can a contact change its state?
   BodyIntegration integration;        // the awake moving bodies, for the substep loops
   ContactSolver contact_solver;
-  FxContactGraph contact_graph;
+  ContactGraph contact_graph;
   ContactBatches contact_batches;
 
   void reserve(std::size_t bodies);
