@@ -1,16 +1,23 @@
 // The step: a fixed sequence of stages, each one function of the step context and of the parts
-// of the scene it owns or reads, each timed as one FxStage.
+// of the scene it owns or reads, each timed as the FxStage of the same name (fx2d/Profile.h).
 //
-//   broad phase      update_broad_phase()   proxies, new pairs                       broad_phase.h
-//   narrow phase     update_contacts()      manifolds, contact cache                 narrow_phase.h
-//   velocity passes  prepare_solver()       gather body state, contact constraints   solver_stages.h
-//                    colour_and_pack()      colour the constraints, pack batches
-//                    solve_substeps()       per substep: integrate velocities, warm start,
-//                                           velocity passes, integrate positions, relaxation passes
-//                    apply_restitution()
-//   position solve   solve_positions()      project remaining deep overlaps
-//   integration      finalize_bodies()      write poses back with carries, refresh boxes
-//   bookkeeping      store_impulses(), update_sleep() (sleep.h), the step callback
+//   broad_phase      update_broad_phase()     proxies, new pairs                      broad_phase.h
+//   collide          update_contacts()        manifolds, contact cache                narrow_phase.h
+//   prepare          prepare_solver()         gather body state, contact constraints  solver_stages.h
+//   colour_and_pack  colour_and_pack()        colour the constraints, pack batches
+//                    solve_substeps()         per substep:
+//   integrate          integrate_velocities()   gravity, forces, damping
+//   warm_start         warm_start()             the accumulated impulses
+//   solve              solve()                  velocity passes that push overlaps apart
+//   integrate          integrate_positions()
+//   relax              relax()                  passes that take the push velocity out again
+//   restitution      apply_restitution()
+//   position_solve   solve_positions()        project remaining deep overlaps
+//   integrate        finalize_bodies()        write poses back with carries, refresh boxes
+//   store            store_impulses()         impulses for the next step's warm start
+//   sleep            update_sleep()           resting islands                         sleep.h
+//   constraints      user constraints' share of prepare, warm start and every pass
+// The step callback runs after the last stage, in no stage.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -95,24 +102,27 @@ void World::step() {
     StageClock clock(profile_, FxStage::broad_phase);
     const StepContext step(settings_, bodies_.count(), clock);
     update_broad_phase(step, broad_phase_, bodies_, contacts_, constraints_);
-    clock.switch_to(FxStage::narrow_phase);
+    clock.switch_to(FxStage::collide);
     update_contacts(step, contacts_, bodies_, broad_phase_.tree);
-    clock.switch_to(FxStage::velocity_passes);
+    clock.switch_to(FxStage::prepare);
     prepare_solver(step, solver_, bodies_, contacts_);
+    clock.switch_to(FxStage::colour_and_pack);
     colour_and_pack(step, solver_);
     solve_substeps(step, solver_, bodies_, constraints_);
+    clock.switch_to(FxStage::restitution);
     apply_restitution(step, solver_);
     clock.switch_to(FxStage::position_solve);
     solve_positions(step, solver_);
-    clock.switch_to(FxStage::integration);
+    clock.switch_to(FxStage::integrate);
     finalize_bodies(step, solver_, bodies_, broad_phase_);
-    clock.switch_to(FxStage::bookkeeping);
+    clock.switch_to(FxStage::store);
     store_impulses(solver_, contacts_);
+    clock.switch_to(FxStage::sleep);
     update_sleep(step, sleep_, bodies_, contacts_, constraints_, solver_.integration.moving_bodies());
-    stepping_ = false;
-    ++step_index_;
-    if (step_callback_) step_callback_(owner_);
   }
+  stepping_ = false;
+  ++step_index_;
+  if (step_callback_) step_callback_(owner_);
 #if FX2D_PROFILE
   profile_.step_cycles = read_cycle_counter() - cycle_start;
   profile_.step_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();

@@ -92,54 +92,82 @@ void colour_and_pack(const StepContext& step, SolverData& solver) {
   const std::vector<ContactConstraint>& constraints = solver.contact_solver.constraints;
   solver.contact_graph.build(constraints, solver.movable);
   solver.contact_batches.pack(constraints, solver.contact_graph, step.body_count);
+  solver.contact_batches.update_separations(solver.states);
 }
 
-void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& bodies, const Constraints& constraints) {
-  const FxSceneSettings& settings = step.settings;
-  const float h = step.substep_dt;
-  StageClock& clock = step.clock;
-  std::vector<FxBodyState>& states = solver.states;
-  ContactBatches& contact_batches = solver.contact_batches;
-  const BodyIntegration& integration = solver.integration;
-  SolverConstraintContext context(step, solver, bodies);
-  const bool has_constraints = !constraints.empty();
-  if (has_constraints) {
-    clock.switch_to(FxStage::constraints);
-    for (const auto& constraint : constraints) constraint->prepare(context);
+namespace {
+
+// The substep's stages. Each switches the step's clock to itself; a user constraint's share of
+// a stage is charged to FxStage::constraints.
+class Substep {
+ public:
+  Substep(const StepContext& step, SolverData& solver, const Bodies& bodies, const Constraints& constraints)
+      : step_(step), solver_(solver), constraints_(constraints), joints_(step, solver, bodies) {
+    if (constraints_.empty()) return;
+    step_.clock.switch_to(FxStage::constraints);
+    for (const auto& constraint : constraints_) constraint->prepare(joints_);
   }
 
-  // One pass over every constraint, then every contact: contacts last, so they win conflicts.
-  auto velocity_pass = [&](bool use_bias) {
-    if (has_constraints) {
-      clock.switch_to(FxStage::constraints);
-      for (const auto& constraint : constraints) constraint->evaluate(context, use_bias);
-    }
-    clock.switch_to(FxStage::velocity_passes);
-    contact_batches.resolve_velocities(states, step.contact, use_bias, settings.force_scalar_solver);
-  };
+  void integrate_velocities() {
+    step_.clock.switch_to(FxStage::integrate);
+    solver_.integration.integrate_velocities(solver_.states, step_.substep_dt, step_.limits);
+  }
 
-  const SpeedLimits limits = step.limits;
-  clock.switch_to(FxStage::velocity_passes);
-  contact_batches.update_separations(states);
-  for (int substep = 0; substep < settings.substeps; ++substep) {
-    clock.switch_to(FxStage::integration);
-    integration.integrate_velocities(states, h, limits);
-    if (has_constraints) {
-      clock.switch_to(FxStage::constraints);
-      for (const auto& constraint : constraints) constraint->warm_start(context);
+  void warm_start() {
+    if (!constraints_.empty()) {
+      step_.clock.switch_to(FxStage::constraints);
+      for (const auto& constraint : constraints_) constraint->warm_start(joints_);
     }
-    clock.switch_to(FxStage::velocity_passes);
-    contact_batches.warm_start(states, settings.force_scalar_solver);
-    for (int pass = 0; pass < settings.velocity_passes; ++pass) velocity_pass(true);
-    clock.switch_to(FxStage::integration);
+    step_.clock.switch_to(FxStage::warm_start);
+    solver_.contact_batches.warm_start(solver_.states, step_.settings.force_scalar_solver);
+  }
+
+  void solve() {
+    for (int pass = 0; pass < step_.settings.velocity_passes; ++pass) velocity_pass(FxStage::solve, true);
+  }
+
+  void integrate_positions() {
+    step_.clock.switch_to(FxStage::integrate);
     // Clamped again here and at the step's end: the passes can push a body squeezed between
     // immovable bodies, or held by joints that fight, past the limits the integration kept.
-    integration.integrate_positions(states, h, limits);
-    clock.switch_to(FxStage::velocity_passes);
-    contact_batches.update_separations(states);
-    for (int pass = 0; pass < settings.relax_passes; ++pass) velocity_pass(false);
+    solver_.integration.integrate_positions(solver_.states, step_.substep_dt, step_.limits);
   }
-  clock.switch_to(FxStage::velocity_passes);
+
+  void relax() {
+    step_.clock.switch_to(FxStage::relax);
+    solver_.contact_batches.update_separations(solver_.states);
+    for (int pass = 0; pass < step_.settings.relax_passes; ++pass) velocity_pass(FxStage::relax, false);
+  }
+
+ private:
+  // One pass over every constraint, then every contact: contacts last, so they win conflicts.
+  void velocity_pass(FxStage stage, bool use_bias) {
+    if (!constraints_.empty()) {
+      step_.clock.switch_to(FxStage::constraints);
+      for (const auto& constraint : constraints_) constraint->evaluate(joints_, use_bias);
+    }
+    step_.clock.switch_to(stage);
+    solver_.contact_batches.resolve_velocities(solver_.states, step_.contact, use_bias,
+                                               step_.settings.force_scalar_solver);
+  }
+
+  const StepContext& step_;
+  SolverData& solver_;
+  const Constraints& constraints_;
+  SolverConstraintContext joints_;
+};
+
+}  // namespace
+
+void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& bodies, const Constraints& constraints) {
+  Substep substep(step, solver, bodies, constraints);
+  for (int i = 0; i < step.settings.substeps; ++i) {
+    substep.integrate_velocities();
+    substep.warm_start();
+    substep.solve();
+    substep.integrate_positions();
+    substep.relax();
+  }
 }
 
 void apply_restitution(const StepContext& step, SolverData& solver) {

@@ -34,19 +34,23 @@ struct SolverData {
   void reserve(std::size_t bodies);
 };
 
-// Gathers the bodies' hot state and builds one constraint per touching contact with an awake body.
+// Stage prepare: gathers the bodies' hot state and builds one constraint per touching contact
+// with an awake body.
 void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts);
-// Colours the contact constraints and packs them into batches.
+// Stage colour_and_pack: colours the contact constraints, packs them into batches and works out
+// their separations at the step's start.
 void colour_and_pack(const StepContext& step, SolverData& solver);
-// The substeps: contacts and user constraints (joints) solved together.
+// The substeps, each stage timed as its own FxStage: integrate, warm start, solve, integrate,
+// relax; user constraints (joints) are solved in the same passes, contacts last.
 void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& bodies, const Constraints& constraints);
-// Bounce where an approaching point pushed and restitution is > 0.
+// Stage restitution: bounce where an approaching point pushed and restitution is > 0.
 void apply_restitution(const StepContext& step, SolverData& solver);
-// Projects what overlap remains deeper than the slop.
+// Stage position_solve: projects what overlap remains deeper than the slop.
 void solve_positions(const StepContext& step, SolverData& solver);
-// Writes the poses and velocities back to the bodies, with carries, and refreshes their boxes.
+// Stage integrate (its end): writes poses and velocities back to the bodies, with carries, and
+// refreshes their boxes.
 void finalize_bodies(const StepContext& step, const SolverData& solver, Bodies& bodies, const BroadPhase& broad);
-// Keeps each point's impulses in the contact cache for the next step's warm start.
+// Stage store: keeps each point's impulses in the contact cache for the next step's warm start.
 void store_impulses(const SolverData& solver, ContactCache& contacts);
 
 }  // namespace fx2d::detail
