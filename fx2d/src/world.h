@@ -1,6 +1,6 @@
 // The scene behind FxScene: the bodies, the user constraints and what each stage of the step owns,
 // private to World. The step (scene.cpp) builds a StepContext and hands each stage function
-// only the parts it reads or writes.
+// only the parts it reads or writes (README.md here says which stage reads what).
 #pragma once
 
 #include <cstdint>
