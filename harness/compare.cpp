@@ -43,14 +43,55 @@ struct MetricSamples {
   std::vector<double> values;
 };
 
-std::vector<MetricSamples> metrics_of(const RunRecord& run, bool with_phases) {
+// Fx2D's phases before each stage function had a timer of its own, each the sum of the stages
+// that now split it (RESULTS_FORMAT.md, "Fx2D's phase names"): a run recorded with the old names
+// compares with a newer one through these sums.
+struct FoldedPhase {
+  std::string name;
+  std::vector<std::string> stages;
+};
+const std::vector<FoldedPhase> old_fx2d_phases = {
+    {"integration", {"integrate"}},
+    {"narrow_phase", {"collide"}},
+    {"velocity_passes", {"prepare", "colour_and_pack", "warm_start", "solve", "relax", "restitution"}},
+    {"bookkeeping", {"store", "sleep"}}};
+
+// The samples of phase `name` of `run`, repeat-major like its own series; empty when it has none.
+std::vector<double> phase_samples(const RunRecord& run, const std::string& name) {
+  const auto found = std::ranges::find(run.phase_names, name);
+  if (found == run.phase_names.end()) return {};
+  const std::size_t phase_count = run.phase_names.size();
+  std::vector<double> values;
+  for (auto i = static_cast<std::size_t>(found - run.phase_names.begin()); i < run.phase_ms.size(); i += phase_count) {
+    values.push_back(run.phase_ms[i]);
+  }
+  return values;
+}
+
+// An old phase `other` names and `run` lacks, as the sum of `run`'s stages that it covered.
+std::optional<std::vector<double>> folded_phase(const RunRecord& run, const RunRecord& other, const FoldedPhase& old) {
+  if (std::ranges::count(run.phase_names, old.name) > 0 || std::ranges::count(other.phase_names, old.name) == 0) {
+    return std::nullopt;
+  }
+  std::vector<double> sums;
+  for (const std::string& stage : old.stages) {
+    const std::vector<double> values = phase_samples(run, stage);
+    if (values.empty()) return std::nullopt;
+    sums.resize(values.size(), 0.0);
+    for (std::size_t i = 0; i < values.size(); ++i) sums[i] += values[i];
+  }
+  return sums;
+}
+
+// The step time, cycles and, with phases, each of `run`'s phases, then any old phase `other` names
+// folded from `run`'s stages.
+std::vector<MetricSamples> metrics_of(const RunRecord& run, const RunRecord& other, bool with_phases) {
   std::vector<MetricSamples> metrics = {{step_metric, run.wall_ms},
                                         {"cycles_per_step", std::vector<double>(run.cycles.begin(), run.cycles.end())}};
   if (!with_phases) return metrics;
-  const std::size_t phase_count = run.phase_names.size();
-  for (std::size_t phase = 0; phase < phase_count; ++phase) {
-    MetricSamples& samples = metrics.emplace_back(MetricSamples{"phase:" + run.phase_names[phase], {}});
-    for (std::size_t i = phase; i < run.phase_ms.size(); i += phase_count) samples.values.push_back(run.phase_ms[i]);
+  for (const std::string& name : run.phase_names) metrics.push_back({"phase:" + name, phase_samples(run, name)});
+  for (const FoldedPhase& old : old_fx2d_phases) {
+    if (auto sums = folded_phase(run, other, old)) metrics.push_back({"phase:" + old.name, std::move(*sums)});
   }
   return metrics;
 }
@@ -178,8 +219,8 @@ std::optional<CompareRow> instructions_row(const RunPair& pair, const CompareSet
 
 // One row per metric measured in both runs, in A's order, then the instruction counts.
 void append_rows(const RunPair& pair, const CompareSettings& settings, std::vector<CompareRow>& rows) {
-  const std::vector<MetricSamples> metrics_b = metrics_of(pair.b, pair.with_phases);
-  for (const MetricSamples& a : metrics_of(pair.a, pair.with_phases)) {
+  const std::vector<MetricSamples> metrics_b = metrics_of(pair.b, pair.a, pair.with_phases);
+  for (const MetricSamples& a : metrics_of(pair.a, pair.b, pair.with_phases)) {
     const auto b = std::ranges::find(metrics_b, a.name, &MetricSamples::name);
     if (b == metrics_b.end()) continue;
     if (auto row = speed_row(pair, a, *b, settings)) rows.push_back(std::move(*row));

@@ -1,15 +1,32 @@
+// The substep's body loops (body_integration.h): each group of eight bodies is gathered into lane
+// columns, integrated as one loop the compiler vectorises, and scattered back; the rare lane over
+// the speed limit is slowed by the scalar slowed_to(), defined here too.
 #include "body_integration.h"
 
+#include <cmath>
+
 #include "lane_rows.h"
-#include "world.h"
 
 namespace fx2d::detail {
+
+FxVec2f slowed_to(FxVec2f v, float max_speed) {
+  const float speed_squared = length_squared(v);
+  if (std::isfinite(speed_squared)) return v * (max_speed / std::sqrt(speed_squared));
+  // Overflowed, or not a number: keep the direction of the largest components, or the infinite
+  // components' signs alone; a NaN component counts as zero.
+  if (!is_finite(v)) {
+    v = {std::isinf(v.x) ? std::copysign(1.0f, v.x) : 0.0f, std::isinf(v.y) ? std::copysign(1.0f, v.y) : 0.0f};
+  }
+  const float largest = std::max(std::fabs(v.x), std::fabs(v.y));
+  return largest > 0.0f ? max_speed * normalize((1.0f / largest) * v) : FxVec2f{};
+}
+
 namespace {
 
 // The rare lanes the vectorised limit did not cover: faster than max_speed, overflowed or NaN.
 [[gnu::always_inline]] inline void slow_fast_lanes(float* vx, float* vy, const float* speed_squared, float max_speed) {
   const float max_speed_squared = max_speed * max_speed;
-  for (int lane = 0; lane < fx_lanes; ++lane) {
+  for (int lane = 0; lane < lane_count; ++lane) {
     if (speed_squared[lane] <= max_speed_squared) continue;  // also false for NaN
     const FxVec2f slowed = slowed_to({vx[lane], vy[lane]}, max_speed);
     vx[lane] = slowed.x, vy[lane] = slowed.y;
@@ -24,7 +41,7 @@ namespace {
                                                     const float* __restrict angular_factor, float h, float max_spin) {
   // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
 #pragma GCC unroll 1  // unrolled first, the loop is left to the weaker straight-line vectoriser
-  for (int lane = 0; lane < fx_lanes; ++lane) {
+  for (int lane = 0; lane < lane_count; ++lane) {
     const float x = linear_factor[lane] * (vx[lane] + h * ax[lane]);
     const float y = linear_factor[lane] * (vy[lane] + h * ay[lane]);
     vx[lane] = x, vy[lane] = y;
@@ -40,10 +57,10 @@ struct DynamicColumns {
 
 FX2D_LANE_KERNEL void integrate_velocity_groups(DynamicColumns d, std::size_t count, FxBodyState* states, float h,
                                                 SpeedLimits limits) {
-  for (std::size_t first = 0; first < count; first += fx_lanes) {
+  for (std::size_t first = 0; first < count; first += lane_count) {
     LaneColumns row;
     gather_columns<velocity_row>(states, d.body + first, row);
-    alignas(32) float vx[fx_lanes], vy[fx_lanes], w[fx_lanes], speed_squared[fx_lanes];
+    alignas(32) float vx[lane_count], vy[lane_count], w[lane_count], speed_squared[lane_count];
     to_lanes(row.c0, vx), to_lanes(row.c1, vy), to_lanes(row.c2, w);
     accelerate_lanes(vx, vy, w, speed_squared, d.acceleration_x + first, d.acceleration_y + first, d.linear_factor + first,
                      d.angular_factor + first, h, limits.max_spin);
@@ -55,24 +72,24 @@ FX2D_LANE_KERNEL void integrate_velocity_groups(DynamicColumns d, std::size_t co
 
 FX2D_LANE_KERNEL void integrate_position_groups(const std::uint32_t* body, std::size_t count, FxBodyState* states, float h,
                                                 SpeedLimits limits) {
-  for (std::size_t first = 0; first < count; first += fx_lanes) {
+  for (std::size_t first = 0; first < count; first += lane_count) {
     LaneColumns velocity, pose;
     gather_columns<velocity_row>(states, body + first, velocity);
     gather_columns<pose_row>(states, body + first, pose);
-    alignas(32) float vx[fx_lanes], vy[fx_lanes], w[fx_lanes], speed_squared[fx_lanes];
+    alignas(32) float vx[lane_count], vy[lane_count], w[lane_count], speed_squared[lane_count];
     to_lanes(velocity.c0, vx), to_lanes(velocity.c1, vy), to_lanes(velocity.c2, w);
     // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
 #pragma GCC unroll 1
-    for (int lane = 0; lane < fx_lanes; ++lane) {
+    for (int lane = 0; lane < lane_count; ++lane) {
       speed_squared[lane] = vx[lane] * vx[lane] + vy[lane] * vy[lane];
       w[lane] = limited_spin(w[lane], limits.max_spin);
     }
     slow_fast_lanes(vx, vy, speed_squared, limits.max_speed);
-    alignas(32) float dpx[fx_lanes], dpy[fx_lanes], qc[fx_lanes], qs[fx_lanes];
+    alignas(32) float dpx[lane_count], dpy[lane_count], qc[lane_count], qs[lane_count];
     to_lanes(pose.c0, dpx), to_lanes(pose.c1, dpy), to_lanes(pose.c2, qc), to_lanes(pose.c3, qs);
     // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
 #pragma GCC unroll 1
-    for (int lane = 0; lane < fx_lanes; ++lane) {
+    for (int lane = 0; lane < lane_count; ++lane) {
       dpx[lane] += h * vx[lane];
       dpy[lane] += h * vy[lane];
       const FxRot q = integrate_rotation({qc[lane], qs[lane]}, h * w[lane]);
@@ -88,7 +105,7 @@ FX2D_LANE_KERNEL void integrate_position_groups(const std::uint32_t* body, std::
 }  // namespace
 
 void BodyIntegration::reserve(std::size_t bodies) {
-  const std::size_t padded = bodies + fx_lanes;
+  const std::size_t padded = bodies + lane_count;
   moving_.reserve(padded);
   dynamic_.reserve(padded);
   for (std::vector<float>* column : {&acceleration_x_, &acceleration_y_, &linear_factor_, &angular_factor_}) {
@@ -118,8 +135,8 @@ void BodyIntegration::add_dynamic(std::uint32_t body, FxVec2f acceleration, floa
 
 void BodyIntegration::finish() {
   moving_count_ = moving_.size();
-  while (moving_.size() % fx_lanes != 0) moving_.push_back(padding_body_);
-  while (dynamic_.size() % fx_lanes != 0) add_dynamic(padding_body_, {}, 1.0f, 1.0f);
+  while (moving_.size() % lane_count != 0) moving_.push_back(padding_body_);
+  while (dynamic_.size() % lane_count != 0) add_dynamic(padding_body_, {}, 1.0f, 1.0f);
 }
 
 void BodyIntegration::integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits) const {

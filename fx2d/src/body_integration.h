@@ -17,13 +17,9 @@
 
 #include "fx2d/Constraint.h"
 #include "fx2d/Math.h"
+#include "speed_limits.h"
 
 namespace fx2d::detail {
-
-struct SpeedLimits {
-  float max_speed = 0.0f;  // m/s
-  float max_spin = 0.0f;   // rad/s
-};
 
 class BodyIntegration {
  public:

@@ -2,10 +2,12 @@
 // overlap. Runs once per step. A proxy's fat box is its tight box enlarged by a margin and swept
 // by a few steps of its motion, so a body that moves a little, or moves steadily, stays inside it
 // and is not reinserted; only bodies whose tight box left their fat box are searched for new pairs.
+#include "broad_phase.h"
+
 #include <algorithm>
 #include <cmath>
 
-#include "world.h"
+#include "step_context.h"
 
 namespace fx2d::detail {
 namespace {
@@ -18,8 +20,7 @@ constexpr float proxy_sweep_steps = 4.0f;
 // The tree is rebuilt when more than one proxy in this many moves in a step.
 constexpr std::size_t rebuild_fraction_inverse = 2;
 
-}  // namespace
-
+// A proxy's fat box: the tight box enlarged by a margin and swept by `displacement`.
 FxAABB fat_box_for(const FxAABB& tight, FxVec2f displacement) {
   FxAABB fat = inflate(tight, proxy_margin);
   if (displacement.x < 0.0f) fat.lower.x += displacement.x; else fat.upper.x += displacement.x;
@@ -31,20 +32,20 @@ std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
   return a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
 }
 
-void World::rebuild_jointed_pairs() {
-  jointed_pairs.clear();
+void rebuild_jointed_pairs(BroadPhase& broad, const Constraints& constraints) {
+  broad.jointed_pairs.clear();
   for (const auto& constraint : constraints) {
-    jointed_pairs.push_back(pair_key(constraint->entity_a()->packed_index(), constraint->entity_b()->packed_index()));
+    broad.jointed_pairs.push_back(pair_key(constraint->entity_a()->packed_index(), constraint->entity_b()->packed_index()));
   }
-  std::sort(jointed_pairs.begin(), jointed_pairs.end());
-  jointed_pairs_dirty = false;
+  std::sort(broad.jointed_pairs.begin(), broad.jointed_pairs.end());
+  broad.jointed_pairs_dirty = false;
 }
 
-bool World::jointed(std::uint32_t a, std::uint32_t b) const {
-  return std::binary_search(jointed_pairs.begin(), jointed_pairs.end(), pair_key(a, b));
+bool jointed(const BroadPhase& broad, std::uint32_t a, std::uint32_t b) {
+  return std::binary_search(broad.jointed_pairs.begin(), broad.jointed_pairs.end(), pair_key(a, b));
 }
 
-void World::create_contact(std::uint32_t a, std::uint32_t b) {
+void create_contact(ContactCache& contacts, std::vector<BodyRecord>& records, std::uint32_t a, std::uint32_t b) {
   const int id = contacts.create(a, b, records[a].contact_head, records[b].contact_head);
   CachedContact& contact = contacts.slots[id];
   const FxMaterial& ma = records[a].material;
@@ -54,8 +55,32 @@ void World::create_contact(std::uint32_t a, std::uint32_t b) {
   contact.restitution = ma.restitution > mb.restitution ? ma.restitution : mb.restitution;
 }
 
-void World::update_broad_phase() {
-  if (jointed_pairs_dirty) rebuild_jointed_pairs();
+}  // namespace
+
+void BroadPhase::reserve(std::size_t bodies) {
+  body_of_proxy.reserve(2 * bodies);
+  moved_bodies.reserve(bodies);
+  new_pairs.reserve(4 * bodies);
+  tree.reserve(static_cast<int>(bodies));
+}
+
+int BroadPhase::create_proxy(const FxAABB& aabb, std::uint32_t index) {
+  const int proxy = tree.create_proxy(fat_box_for(aabb, {}), 0);
+  if (body_of_proxy.size() <= static_cast<std::size_t>(proxy)) body_of_proxy.resize(proxy + 1);
+  body_of_proxy[proxy] = index;
+  return proxy;
+}
+
+void BroadPhase::refresh(BodyRecord& record, const FxAABB& aabb) const {
+  if (!tree.fat_box(record.proxy).contains(aabb)) record.moved = true;
+}
+
+void update_broad_phase(const StepContext& step, BroadPhase& broad, Bodies& bodies, ContactCache& contacts,
+                        const Constraints& constraints) {
+  if (broad.jointed_pairs_dirty) rebuild_jointed_pairs(broad, constraints);
+  std::vector<BodyRecord>& records = bodies.records;
+  AabbTree& tree = broad.tree;
+  std::vector<std::uint32_t>& moved_bodies = broad.moved_bodies;
   moved_bodies.clear();
   for (std::uint32_t i = 0; i < records.size(); ++i) {
     if (records[i].moved) moved_bodies.push_back(i);
@@ -64,7 +89,8 @@ void World::update_broad_phase() {
   // a tree built afresh costs less than moving each of them.
   const bool rebuild = moved_bodies.size() * rebuild_fraction_inverse > std::size_t(tree.proxy_count());
   for (const std::uint32_t i : moved_bodies) {
-    const FxAABB fat = fat_box_for(sims[i].aabb, proxy_sweep_steps * settings.dt * sims[i].linear_velocity);
+    const BodySim& sim = bodies.sims[i];
+    const FxAABB fat = fat_box_for(sim.aabb, proxy_sweep_steps * step.settings.dt * sim.linear_velocity);
     if (rebuild) {
       tree.set_fat_box(records[i].proxy, fat);
     } else {
@@ -74,16 +100,17 @@ void World::update_broad_phase() {
   if (rebuild) tree.rebuild();
 
   // A pair of moved bodies is found from both sides; only the lower index records it.
+  std::vector<std::uint64_t>& new_pairs = broad.new_pairs;
   new_pairs.clear();
   for (const std::uint32_t i : moved_bodies) {
     tree.query(tree.fat_box(records[i].proxy), [&](int proxy) {
-      const std::uint32_t j = body_of_proxy[proxy];
+      const std::uint32_t j = broad.body_of_proxy[proxy];
       if (j == i) return true;
       if (records[j].moved && j < i) return true;
       if (records[i].type != FxBodyType::dynamic && records[j].type != FxBodyType::dynamic) return true;
       const std::uint32_t a = i < j ? i : j;
       const std::uint32_t b = i < j ? j : i;
-      if (contacts.has_pair(records[a].contact_head, b) || jointed(a, b)) return true;
+      if (contacts.has_pair(records[a].contact_head, b) || jointed(broad, a, b)) return true;
       new_pairs.push_back(std::uint64_t{i} << 32 | j);
       return true;
     });
@@ -95,7 +122,7 @@ void World::update_broad_phase() {
   for (const std::uint64_t found : new_pairs) {
     const auto i = static_cast<std::uint32_t>(found >> 32);
     const auto j = static_cast<std::uint32_t>(found);
-    create_contact(i < j ? i : j, i < j ? j : i);
+    create_contact(contacts, records, i < j ? i : j, i < j ? j : i);
   }
   for (const std::uint32_t i : moved_bodies) records[i].moved = false;
 }

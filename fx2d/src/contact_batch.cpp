@@ -1,3 +1,7 @@
+// Packing contact constraints into batches and the batched passes over them (contact_batch.h):
+// the arithmetic of one lane (solve_lane, warm start, separation update), the sweeps that run it
+// over a batch's lanes as vectorisable loops or lane by lane (the scalar twin, and the overflow),
+// and pack()/unpack(), which move the constraints in and out of their columns.
 #include "contact_batch.h"
 
 #include <algorithm>
@@ -37,25 +41,25 @@ struct PointRows {
   float mass_ax, mass_ay, mass_bx, mass_by;
 };
 
-[[gnu::always_inline]] inline PointRows rows_of(const FxContactBatch& __restrict k, int lane) {
+[[gnu::always_inline]] inline PointRows rows_of(const ContactBatch& __restrict k, int lane) {
   return {k.normal_x[lane], k.normal_y[lane], k.mass_normal_ax[lane], k.mass_normal_ay[lane], k.mass_normal_bx[lane],
           k.mass_normal_by[lane]};
 }
 
-[[gnu::always_inline]] inline void apply_normal(const FxContactBatch& __restrict k, const PointRows& r, int i, int lane,
+[[gnu::always_inline]] inline void apply_normal(const ContactBatch& __restrict k, const PointRows& r, int i, int lane,
                                                 LaneBody& a, LaneBody& b, float impulse) {
   apply_impulse(a, b, impulse, r.mass_ax, r.mass_ay, k.point[i].spin_normal_a[lane], r.mass_bx, r.mass_by,
                 k.point[i].spin_normal_b[lane]);
 }
 
-[[gnu::always_inline]] inline void apply_tangent(const FxContactBatch& __restrict k, const PointRows& r, int i, int lane,
+[[gnu::always_inline]] inline void apply_tangent(const ContactBatch& __restrict k, const PointRows& r, int i, int lane,
                                                  LaneBody& a, LaneBody& b, float impulse) {
   apply_impulse(a, b, impulse, r.mass_ay, -r.mass_ax, k.point[i].spin_tangent_a[lane], r.mass_by, -r.mass_bx,
                 k.point[i].spin_tangent_b[lane]);
 }
 
 template <int Points>
-[[gnu::always_inline]] inline void warm_start_lane(FxContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
+[[gnu::always_inline]] inline void warm_start_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
                                                    const ContactSolveParams&) {
   const PointRows r = rows_of(k, lane);
   for (int i = 0; i < Points; ++i) {
@@ -74,7 +78,7 @@ template <int Points>
 // is the same Gauss-Seidel sweep, but between two rows lie one multiply and one add, not a
 // velocity update and a dot product.
 template <int Points, bool UseBias>
-[[gnu::always_inline]] inline void solve_lane(FxContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
+[[gnu::always_inline]] inline void solve_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
                                               const ContactSolveParams& p) {
   const PointRows r = rows_of(k, lane);
   float normal_speed[Points], tangent_speed[Points];
@@ -138,8 +142,8 @@ template <int Points, bool UseBias>
 
 // Lanes may share bodies: gather, solve and scatter one lane at a time, in lane order.
 template <LaneFn LaneSolve>
-[[gnu::always_inline]] inline void run_serial(FxContactBatch& k, FxBodyState* states, const ContactSolveParams& p) {
-  for (int lane = 0; lane < fx_lanes; ++lane) {
+[[gnu::always_inline]] inline void run_serial(ContactBatch& k, FxBodyState* states, const ContactSolveParams& p) {
+  for (int lane = 0; lane < lane_count; ++lane) {
     LaneBody a = load(states[k.body_a[lane]]);
     LaneBody b = load(states[k.body_b[lane]]);
     LaneSolve(k, lane, a, b, p);
@@ -151,11 +155,11 @@ template <LaneFn LaneSolve>
 // The velocities of one batch's lanes as unit-stride arrays, for the solve loop; the bodies' flags
 // (the rows' fourth column) ride along unchanged.
 struct LaneVelocities {
-  alignas(32) float avx[fx_lanes], avy[fx_lanes], aw[fx_lanes], bvx[fx_lanes], bvy[fx_lanes], bw[fx_lanes];
+  alignas(32) float avx[lane_count], avy[lane_count], aw[lane_count], bvx[lane_count], bvy[lane_count], bw[lane_count];
   LaneColumn a_flags, b_flags;
 };
 
-[[gnu::always_inline]] inline void gather_velocities(const FxContactBatch& k, const FxBodyState* __restrict states,
+[[gnu::always_inline]] inline void gather_velocities(const ContactBatch& k, const FxBodyState* __restrict states,
                                                      LaneVelocities& v) {
   LaneColumns a_side, b_side;
   gather_columns<velocity_row>(states, k.body_a, a_side);
@@ -167,7 +171,7 @@ struct LaneVelocities {
 
 // Lanes that share a body (only static or kinematic ones, or the padding body) carry the same
 // unchanged values, so the order of the writes is moot.
-[[gnu::always_inline]] inline void scatter_velocities(const FxContactBatch& k, FxBodyState* __restrict states,
+[[gnu::always_inline]] inline void scatter_velocities(const ContactBatch& k, FxBodyState* __restrict states,
                                                       const LaneVelocities& v) {
   LaneColumns a_side, b_side;
   from_lanes(v.avx, a_side.c0), from_lanes(v.avy, a_side.c1), from_lanes(v.aw, a_side.c2);
@@ -179,7 +183,7 @@ struct LaneVelocities {
 
 // Lane `lane` of one batch, on velocities gathered into `v`.
 template <LaneFn LaneSolve>
-[[gnu::always_inline]] inline void solve_lane_of(FxContactBatch& __restrict k, LaneVelocities& __restrict v, int lane,
+[[gnu::always_inline]] inline void solve_lane_of(ContactBatch& __restrict k, LaneVelocities& __restrict v, int lane,
                                                  const ContactSolveParams& p) {
   LaneBody a{v.avx[lane], v.avy[lane], v.aw[lane]};
   LaneBody b{v.bvx[lane], v.bvy[lane], v.bw[lane]};
@@ -196,7 +200,7 @@ template <LaneFn LaneSolve>
 // 0.80x the time with one-point batches, 0.885x with two-point ones, on a core of its own;
 // 1.00-1.03x when the core's other hardware thread is busy and leaves no idle capacity to fill).
 template <LaneFn LaneSolve, int Count>
-[[gnu::always_inline]] inline void run_batched(FxContactBatch* __restrict k, FxBodyState* __restrict states,
+[[gnu::always_inline]] inline void run_batched(ContactBatch* __restrict k, FxBodyState* __restrict states,
                                                const ContactSolveParams& p) {
   static_assert(Count == 1 || Count == 2);
   // Named variables, not an array indexed by batch: GCC keeps those in registers.
@@ -205,7 +209,7 @@ template <LaneFn LaneSolve, int Count>
   if constexpr (Count == 2) gather_velocities(k[1], states, second);
   // check-vectorized(12): the lane loop below, in all twelve instantiations (warm start and
   // solve with and without bias, one and two points, one and two batches), must be vectorised
-  for (int lane = 0; lane < fx_lanes; ++lane) {
+  for (int lane = 0; lane < lane_count; ++lane) {
     solve_lane_of<LaneSolve>(k[0], first, lane, p);
     if constexpr (Count == 2) solve_lane_of<LaneSolve>(k[1], second, lane, p);
   }
@@ -215,17 +219,17 @@ template <LaneFn LaneSolve, int Count>
 
 // Relative pose of the two bodies of every lane since the step began, gathered into columns.
 struct LanePoses {
-  alignas(32) float dpx[fx_lanes], dpy[fx_lanes], aqc[fx_lanes], aqs[fx_lanes], bqc[fx_lanes], bqs[fx_lanes];
+  alignas(32) float dpx[lane_count], dpy[lane_count], aqc[lane_count], aqs[lane_count], bqc[lane_count], bqs[lane_count];
 };
 
 // Point `Point` of every lane: its separation at the current poses, from how far each anchor
 // moved and turned since the step began.
 template <int Point>
-[[gnu::always_inline]] inline void update_point_separations(FxContactBatch& __restrict k, const LanePoses& __restrict q) {
+[[gnu::always_inline]] inline void update_point_separations(ContactBatch& __restrict k, const LanePoses& __restrict q) {
   // check-vectorized(2): the lane loop below, for the first and the second point, must be vectorised
   // (not unrolled first: a fully unrolled loop is left to the weaker straight-line vectoriser)
 #pragma GCC unroll 1
-  for (int lane = 0; lane < fx_lanes; ++lane) {
+  for (int lane = 0; lane < lane_count; ++lane) {
     const float rax = k.point[Point].anchor_ax[lane], ray = k.point[Point].anchor_ay[lane];
     const float rbx = k.point[Point].anchor_bx[lane], rby = k.point[Point].anchor_by[lane];
     const float gap_x = q.dpx[lane] + ((q.bqc[lane] * rbx - q.bqs[lane] * rby) - (q.aqc[lane] * rax - q.aqs[lane] * ray));
@@ -238,7 +242,7 @@ template <int Point>
 // Every point of one batch. It reads poses and writes only the batch, so lanes never conflict,
 // even in an overflow batch.
 template <int Points>
-[[gnu::always_inline]] inline void update_batch_separations(FxContactBatch& __restrict k,
+[[gnu::always_inline]] inline void update_batch_separations(ContactBatch& __restrict k,
                                                             const FxBodyState* __restrict states) {
   LaneColumns a, b;
   gather_columns<pose_row>(states, k.body_a, a);
@@ -253,7 +257,7 @@ template <int Points>
 // The batches of one run, in order; two at a time where lanes are independent, with one left over
 // for an odd count.
 template <LaneFn LaneSolve>
-[[gnu::always_inline]] inline void sweep_run(FxContactBatch* batches, int count, FxBodyState* states,
+[[gnu::always_inline]] inline void sweep_run(ContactBatch* batches, int count, FxBodyState* states,
                                              const ContactSolveParams& params, bool serial) {
   int i = 0;
   if (serial) {
@@ -265,7 +269,7 @@ template <LaneFn LaneSolve>
 }
 
 template <LaneFn OnePoint, LaneFn TwoPoints>
-[[gnu::always_inline]] inline void sweep(std::span<const BatchRun> runs, FxContactBatch* batches, FxBodyState* states,
+[[gnu::always_inline]] inline void sweep(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
                                          const ContactSolveParams& caller_params, bool scalar) {
   // A local copy, which no store to a batch or a body can change, so it is not re-read per batch.
   const ContactSolveParams params = caller_params;
@@ -280,12 +284,12 @@ template <LaneFn OnePoint, LaneFn TwoPoints>
 }
 
 // The sweeps the step runs, each compiled once per instruction set FX2D_LANE_KERNEL names.
-FX2D_LANE_KERNEL void warm_start_runs(std::span<const BatchRun> runs, FxContactBatch* batches, FxBodyState* states,
+FX2D_LANE_KERNEL void warm_start_runs(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
                                       bool scalar) {
   sweep<&warm_start_lane<1>, &warm_start_lane<2>>(runs, batches, states, {}, scalar);
 }
 
-FX2D_LANE_KERNEL void update_run_separations(std::span<const BatchRun> runs, FxContactBatch* batches,
+FX2D_LANE_KERNEL void update_run_separations(std::span<const BatchRun> runs, ContactBatch* batches,
                                              const FxBodyState* states) {
   for (const BatchRun& run : runs) {
     for (int i = run.first; i < run.first + run.count; ++i) {
@@ -294,12 +298,12 @@ FX2D_LANE_KERNEL void update_run_separations(std::span<const BatchRun> runs, FxC
   }
 }
 
-FX2D_LANE_KERNEL void solve_runs_biased(std::span<const BatchRun> runs, FxContactBatch* batches, FxBodyState* states,
+FX2D_LANE_KERNEL void solve_runs_biased(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
                                         const ContactSolveParams& params, bool scalar) {
   sweep<&solve_lane<1, true>, &solve_lane<2, true>>(runs, batches, states, params, scalar);
 }
 
-FX2D_LANE_KERNEL void solve_runs_relaxed(std::span<const BatchRun> runs, FxContactBatch* batches, FxBodyState* states,
+FX2D_LANE_KERNEL void solve_runs_relaxed(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
                                          const ContactSolveParams& params, bool scalar) {
   sweep<&solve_lane<1, false>, &solve_lane<2, false>>(runs, batches, states, params, scalar);
 }
@@ -317,8 +321,8 @@ float arms_times_spins(const float* arm_a, const float* arm_b, const float* spin
 // How much row s's relative speed changes per unit impulse on row r: J_s M^-1 J_r^T, that is
 // (m_a + m_b) (d_s . d_r) + arm_a(s) spin_a(r) + arm_b(s) spin_b(r). Normal and tangent are
 // perpendicular, so the mass term appears only between rows of one direction.
-void add_couplings(FxContactBatch& k, int lane, int points, float mass_sum) {
-  FxPointColumns* p = k.point;
+void add_couplings(ContactBatch& k, int lane, int points, float mass_sum) {
+  PointColumns* p = k.point;
   for (int s = 0; s < points; ++s) {
     for (int r = 0; r < points; ++r) {
       p[s].tangent_from_normal[r][lane] = arms_times_spins(p[s].arm_tangent_a, p[s].arm_tangent_b,
@@ -340,20 +344,20 @@ void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, st
                               std::uint32_t padding_body) {
   for (int points = 1; points <= 2; ++points) {
     BatchRun run{static_cast<int>(batches_.size()), 0, points, serial};
-    int lane = fx_lanes;
+    int lane = lane_count;
     for (const int index : members) {
       const ContactConstraint& c = constraints[index];
       if (c.point_count != points) continue;
-      if (lane == fx_lanes) {
-        FxContactBatch& fresh = batches_.emplace_back();
-        fresh = FxContactBatch{};
+      if (lane == lane_count) {
+        ContactBatch& fresh = batches_.emplace_back();
+        fresh = ContactBatch{};
         std::fill(std::begin(fresh.body_a), std::end(fresh.body_a), padding_body);
         std::fill(std::begin(fresh.body_b), std::end(fresh.body_b), padding_body);
         std::fill(std::begin(fresh.constraint), std::end(fresh.constraint), -1);
         ++run.count;
         lane = 0;
       }
-      FxContactBatch& k = batches_.back();
+      ContactBatch& k = batches_.back();
       k.body_a[lane] = c.body_a;
       k.body_b[lane] = c.body_b;
       k.normal_x[lane] = c.normal.x;
@@ -367,7 +371,7 @@ void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, st
       const FxVec2f tangent = right_perp(c.normal);
       for (int i = 0; i < points; ++i) {
         const ContactPointConstraint& cp = c.points[i];
-        FxPointColumns& column = k.point[i];
+        PointColumns& column = k.point[i];
         column.anchor_ax[lane] = cp.anchor_a.x;
         column.anchor_ay[lane] = cp.anchor_a.y;
         column.anchor_bx[lane] = cp.anchor_b.x;
@@ -396,18 +400,18 @@ void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, st
 
 void ContactBatches::reserve(std::size_t constraints) {
   // Full batches, plus one partly filled batch per run: two runs per colour and two for overflow.
-  batches_.reserve(constraints / fx_lanes + 2 * (FxContactGraph::max_colours + 1));
-  runs_.reserve(2 * (FxContactGraph::max_colours + 1));
+  batches_.reserve(constraints / lane_count + 2 * (ContactGraph::max_colours + 1));
+  runs_.reserve(2 * (ContactGraph::max_colours + 1));
 }
 
-void ContactBatches::pack(std::span<const ContactConstraint> constraints, const FxContactGraph& graph,
+void ContactBatches::pack(std::span<const ContactConstraint> constraints, const ContactGraph& graph,
                           std::uint32_t padding_body) {
   batches_.clear();
   runs_.clear();
   for (int colour = 0; colour < graph.colour_count(); ++colour) {
     add_runs(constraints, graph.members(colour), false, padding_body);
   }
-  add_runs(constraints, graph.members(FxContactGraph::overflow), true, padding_body);
+  add_runs(constraints, graph.members(ContactGraph::overflow), true, padding_body);
 }
 
 void ContactBatches::warm_start(std::span<FxBodyState> states, bool scalar) {
@@ -430,8 +434,8 @@ void ContactBatches::resolve_velocities(std::span<FxBodyState> states, const Con
 void ContactBatches::unpack(std::span<ContactConstraint> constraints) const {
   for (const BatchRun& run : runs_) {
     for (int i = run.first; i < run.first + run.count; ++i) {
-      const FxContactBatch& k = batches_[i];
-      for (int lane = 0; lane < fx_lanes; ++lane) {
+      const ContactBatch& k = batches_[i];
+      for (int lane = 0; lane < lane_count; ++lane) {
         if (k.constraint[lane] < 0) continue;
         ContactConstraint& c = constraints[k.constraint[lane]];
         for (int p = 0; p < run.point_count; ++p) {

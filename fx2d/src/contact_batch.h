@@ -1,4 +1,4 @@
-// FxContactBatch: contact constraints transposed into columns of fx_lanes lanes, so that a
+// ContactBatch: contact constraints transposed into columns of lane_count lanes, so that a
 // velocity pass over one colour of the contact graph runs as plain loops the compiler vectorises
 // (SSE, AVX2, NEON: the lane count of the machine does not matter, the loops are width-agnostic).
 //
@@ -33,60 +33,60 @@ struct LaneBody {
   float vx, vy, w;
 };
 
-struct FxContactBatch;
+struct ContactBatch;
 // The arithmetic of one lane: one contact of a batch in one pass.
-using LaneFn = void (*)(FxContactBatch& batch, int lane, LaneBody& a, LaneBody& b, const ContactSolveParams& params);
+using LaneFn = void (*)(ContactBatch& batch, int lane, LaneBody& a, LaneBody& b, const ContactSolveParams& params);
 
 // One manifold point of every lane of a batch. What the velocity passes read comes first; the
 // anchors, read once per substep to update the separation, last.
-struct FxPointColumns {
+struct PointColumns {
   // The anchors' lever arms about the normal and the tangent, cross(anchor, direction): how a
   // body's spin moves the point along that direction. Constant for the step, like the anchors.
-  float arm_normal_a[fx_lanes];
-  float arm_normal_b[fx_lanes];
-  float arm_tangent_a[fx_lanes];
-  float arm_tangent_b[fx_lanes];
+  float arm_normal_a[lane_count];
+  float arm_normal_b[lane_count];
+  float arm_tangent_a[lane_count];
+  float arm_tangent_b[lane_count];
   // The lever arms times the body's inverse inertia: the spin a unit impulse there gives it.
-  float spin_normal_a[fx_lanes];
-  float spin_normal_b[fx_lanes];
-  float spin_tangent_a[fx_lanes];
-  float spin_tangent_b[fx_lanes];
+  float spin_normal_a[lane_count];
+  float spin_normal_b[lane_count];
+  float spin_tangent_a[lane_count];
+  float spin_tangent_b[lane_count];
   // The change of this point's tangent row's relative speed per unit impulse on each point's
   // normal row (solve_lane).
-  float tangent_from_normal[2][fx_lanes];
-  float separation[fx_lanes];  // at the poses of the last position integration (update_separations)
-  float normal_mass[fx_lanes];
-  float tangent_mass[fx_lanes];
-  float normal_impulse[fx_lanes];
-  float tangent_impulse[fx_lanes];
-  float max_normal_impulse[fx_lanes];
-  float anchor_ax[fx_lanes];
-  float anchor_ay[fx_lanes];
-  float anchor_bx[fx_lanes];
-  float anchor_by[fx_lanes];
-  float adjusted_separation[fx_lanes];
+  float tangent_from_normal[2][lane_count];
+  float separation[lane_count];  // at the poses of the last position integration (update_separations)
+  float normal_mass[lane_count];
+  float tangent_mass[lane_count];
+  float normal_impulse[lane_count];
+  float tangent_impulse[lane_count];
+  float max_normal_impulse[lane_count];
+  float anchor_ax[lane_count];
+  float anchor_ay[lane_count];
+  float anchor_bx[lane_count];
+  float anchor_by[lane_count];
+  float adjusted_separation[lane_count];
 };
 
-struct alignas(32) FxContactBatch {
-  std::uint32_t body_a[fx_lanes];
-  std::uint32_t body_b[fx_lanes];
-  float normal_x[fx_lanes];
-  float normal_y[fx_lanes];
+struct alignas(32) ContactBatch {
+  std::uint32_t body_a[lane_count];
+  std::uint32_t body_b[lane_count];
+  float normal_x[lane_count];
+  float normal_y[lane_count];
   // Each body's inverse mass times the normal: an impulse along the normal changes its velocity
   // by this much per unit (along the tangent, by the same numbers turned a quarter).
-  float mass_normal_ax[fx_lanes];
-  float mass_normal_ay[fx_lanes];
-  float mass_normal_bx[fx_lanes];
-  float mass_normal_by[fx_lanes];
-  float friction[fx_lanes];
+  float mass_normal_ax[lane_count];
+  float mass_normal_ay[lane_count];
+  float mass_normal_bx[lane_count];
+  float mass_normal_by[lane_count];
+  float friction[lane_count];
   // Couplings between the rows of a two-point contact: the change of the second row's relative
   // speed per unit impulse on the first (solve_lane).
-  float normal1_from_normal0[fx_lanes];
-  float tangent1_from_tangent0[fx_lanes];
+  float normal1_from_normal0[lane_count];
+  float tangent1_from_tangent0[lane_count];
   // Per manifold point, each point's columns together: a one-point batch never touches the
   // second point's, so its passes read half the cache lines.
-  FxPointColumns point[2];
-  int constraint[fx_lanes];  // index into the step's constraints, -1 for padding
+  PointColumns point[2];
+  int constraint[lane_count];  // index into the step's constraints, -1 for padding
 };
 
 // Consecutive batches of one colour (or of the overflow) with one point count.
@@ -103,7 +103,7 @@ class ContactBatches {
   void reserve(std::size_t constraints);
   // Packs the constraints colour by colour. `padding_body` indexes a state that is never read
   // back (one past the last body).
-  void pack(std::span<const ContactConstraint> constraints, const FxContactGraph& graph, std::uint32_t padding_body);
+  void pack(std::span<const ContactConstraint> constraints, const ContactGraph& graph, std::uint32_t padding_body);
   // With `scalar`, every batch is solved lane by lane (the scalar twin); the result is the same.
   void warm_start(std::span<FxBodyState> states, bool scalar);
   // Works out every point's separation at the current poses; the velocity passes read it. Poses
@@ -117,7 +117,7 @@ class ContactBatches {
   void add_runs(std::span<const ContactConstraint> constraints, std::span<const int> members, bool serial,
                 std::uint32_t padding_body);
 
-  std::vector<FxContactBatch> batches_;
+  std::vector<ContactBatch> batches_;
   std::vector<BatchRun> runs_;
 };
 

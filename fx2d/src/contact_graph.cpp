@@ -1,3 +1,5 @@
+// Greedy colouring of the step's contact constraints (contact_graph.h): per colour a bitset over
+// the bodies it already holds; the constraints are then listed colour by colour, overflow last.
 #include "contact_graph.h"
 
 #include <algorithm>
@@ -6,13 +8,13 @@
 
 namespace fx2d::detail {
 
-void FxContactGraph::reserve(std::size_t constraints, std::size_t bodies) {
+void ContactGraph::reserve(std::size_t constraints, std::size_t bodies) {
   used_.reserve(((bodies + 63) / 64) * max_colours);
   colour_of_.reserve(constraints);
   order_.reserve(constraints);
 }
 
-void FxContactGraph::build(std::span<const ContactConstraint> constraints, std::span<const std::uint8_t> movable) {
+void ContactGraph::build(std::span<const ContactConstraint> constraints, std::span<const std::uint8_t> movable) {
   const std::size_t words = (movable.size() + 63) / 64;
   used_.assign(words * max_colours, 0);
   colour_of_.resize(constraints.size());

@@ -1,4 +1,4 @@
-// FxContactGraph: colours the step's contact constraints so that each colour can be solved as
+// ContactGraph: colours the step's contact constraints so that each colour can be solved as
 // independent lanes of a batch.
 //
 // Invariant: no two contacts in a colour share a movable body; static bodies never conflict
@@ -15,7 +15,7 @@ namespace fx2d::detail {
 
 struct ContactConstraint;
 
-class FxContactGraph {
+class ContactGraph {
  public:
   static constexpr int max_colours = 16;
   static constexpr int overflow = max_colours;

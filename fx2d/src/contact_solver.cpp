@@ -1,9 +1,13 @@
+// Contact constraints built from the cache for one step, and the parts solved contact by contact
+// (contact_solver.h): restitution after the substeps, the position projection, and the storage of
+// impulses for the next step's warm start.
 #include "contact_solver.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "world.h"
+#include "bodies.h"
+#include "contact_cache.h"
 
 namespace fx2d::detail {
 namespace {
@@ -44,16 +48,16 @@ float current_separation(const FxBodyState& a, const FxBodyState& b, FxVec2f nor
 
 }  // namespace
 
-void ContactSolver::prepare(const World& world) {
+void ContactSolver::prepare(const ContactCache& contacts, const Bodies& bodies) {
   constraints.clear();
-  for (int id = 0; id < static_cast<int>(world.contacts.slots.size()); ++id) {
-    const CachedContact& contact = world.contacts.slots[id];
+  for (int id = 0; id < static_cast<int>(contacts.slots.size()); ++id) {
+    const CachedContact& contact = contacts.slots[id];
     if (!contact.touching) continue;
-    const BodyRecord& record_a = world.records[contact.body_a];
-    const BodyRecord& record_b = world.records[contact.body_b];
+    const BodyRecord& record_a = bodies.records[contact.body_a];
+    const BodyRecord& record_b = bodies.records[contact.body_b];
     if (!record_a.awake && !record_b.awake) continue;
-    const BodySim& sim_a = world.sims[contact.body_a];
-    const BodySim& sim_b = world.sims[contact.body_b];
+    const BodySim& sim_a = bodies.sims[contact.body_a];
+    const BodySim& sim_b = bodies.sims[contact.body_b];
 
     ContactConstraint& c = constraints.emplace_back();
     c.body_a = contact.body_a;
@@ -69,7 +73,7 @@ void ContactSolver::prepare(const World& world) {
 
     // The manifold is in a frame centred on body a's origin; move it to the centres of mass.
     const FxVec2f center_a = rotate(sim_a.rotation, sim_a.local_center);
-    const FxVec2f center_b = world.center_offset(contact.body_a, contact.body_b) + center_a;
+    const FxVec2f center_b = bodies.center_offset(contact.body_a, contact.body_b) + center_a;
     const FxVec2f tangent = right_perp(c.normal);
     float sliding_speed = 0.0f;
     for (int i = 0; i < c.point_count; ++i) {

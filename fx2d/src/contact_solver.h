@@ -16,7 +16,7 @@
 
 namespace fx2d::detail {
 
-class World;
+struct Bodies;
 class ContactCache;
 
 struct ContactPointConstraint {
@@ -53,7 +53,7 @@ struct ContactSolveParams {
 class ContactSolver {
  public:
   // Builds one constraint per touching contact that has an awake body, in contact cache order.
-  void prepare(const World& world);
+  void prepare(const ContactCache& contacts, const Bodies& bodies);
   // After the substeps: bounce where an approaching point pushed and restitution is > 0.
   void apply_restitution(std::span<FxBodyState> states, float threshold);
   // Non-linear Gauss-Seidel projection of overlaps deeper than the slop, on positions only.

@@ -61,13 +61,13 @@ FxMassData checked_mass(const FxEntityDef& def) {
 }
 
 std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
-  validate(def, settings);
+  validate(def, settings_);
   const FxMassData mass = def.type == FxBodyType::dynamic ? checked_mass(def) : FxMassData{0.0f, def.shape.centroid(), 0.0f};
   reserve_scratch();
-  const auto index = static_cast<std::uint32_t>(records.size());
+  const std::uint32_t index = bodies_.count();
   std::shared_ptr<FxEntity> handle(new FxEntity(this, index));
 
-  BodyRecord& record = records.emplace_back();
+  BodyRecord& record = bodies_.records.emplace_back();
   record.handle = handle;
   record.shape = def.shape;
   record.material = def.material;
@@ -77,7 +77,7 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
   record.linear_damping = def.linear_damping;
   record.angular_damping = def.angular_damping;
 
-  BodySim& sim = sims.emplace_back();
+  BodySim& sim = bodies_.sims.emplace_back();
   sim.origin = def.position;
   sim.rotation = FxRot::from_angle(def.angle);
   sim.local_center = mass.center;
@@ -94,9 +94,7 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
   }
   def.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
 
-  record.proxy = tree.create_proxy(fat_box_for(sim.aabb, {}), 0);
-  if (body_of_proxy.size() <= static_cast<std::size_t>(record.proxy)) body_of_proxy.resize(record.proxy + 1);
-  body_of_proxy[record.proxy] = index;
+  record.proxy = broad_phase_.create_proxy(sim.aabb, index);
   record.moved = true;
   return handle;
 }
@@ -105,24 +103,15 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
 // contacts build up. Four pair records per body (reserved for twice the bodies present, so the
 // growth is geometric) covers piles and heaps, which settle at about three.
 void World::reserve_scratch() {
-  if (records.size() < reserved_bodies) return;
-  reserved_bodies = std::max<std::size_t>(64, 2 * records.size());
-  const std::size_t n = reserved_bodies;
-  records.reserve(n);
-  sims.reserve(n);
-  states.reserve(n + 1);
-  movable.reserve(n + 1);
-  body_of_proxy.reserve(2 * n);
-  moved_bodies.reserve(n);
-  new_pairs.reserve(4 * n);
-  integration.reserve(n);
-  island_parent.reserve(n);
-  island_min_sleep_time.reserve(n);
-  contacts.slots.reserve(4 * n);
-  solver.constraints.reserve(4 * n);
-  contact_graph.reserve(4 * n, n + 1);
-  contact_batches.reserve(4 * n);
-  tree.reserve(static_cast<int>(n));
+  if (bodies_.records.size() < reserved_bodies_) return;
+  reserved_bodies_ = std::max<std::size_t>(64, 2 * bodies_.records.size());
+  const std::size_t n = reserved_bodies_;
+  bodies_.records.reserve(n);
+  bodies_.sims.reserve(n);
+  solver_.reserve(n);
+  broad_phase_.reserve(n);
+  sleep_.reserve(n);
+  contacts_.slots.reserve(4 * n);
 }
 
 std::uint32_t World::index_of(const FxEntity& entity) const {
@@ -131,40 +120,41 @@ std::uint32_t World::index_of(const FxEntity& entity) const {
 }
 
 void World::remove_entity(std::uint32_t index) {
-  if (stepping) throw FxInvalidArgument("FxScene::remove_entity: expected a call outside step()");
+  if (stepping_) throw FxInvalidArgument("FxScene::remove_entity: expected a call outside step()");
+  std::vector<BodyRecord>& records = bodies_.records;
   // What rested on it must notice it is gone.
   wake_body(index);
   for (int edge = records[index].contact_head; edge >= 0;) {
-    const int next_edge = contacts.next(edge);
+    const int next_edge = contacts_.next(edge);
     const int id = ContactCache::contact_of(edge);
-    const std::uint32_t other = contacts.other_body(edge);
+    const std::uint32_t other = contacts_.other_body(edge);
     wake_body(other);
-    CachedContact& contact = contacts.slots[id];
-    contacts.destroy(id, records[contact.body_a].contact_head, records[contact.body_b].contact_head);
+    CachedContact& contact = contacts_.slots[id];
+    contacts_.destroy(id, records[contact.body_a].contact_head, records[contact.body_b].contact_head);
     edge = next_edge;
   }
   FxEntity& entity = *records[index].handle;
-  std::erase_if(constraints, [&](const std::shared_ptr<FxConstraint>& c) {
+  std::erase_if(constraints_, [&](const std::shared_ptr<FxConstraint>& c) {
     return c->entity_a().get() == &entity || c->entity_b().get() == &entity;
   });
-  jointed_pairs_dirty = true;
-  tree.destroy_proxy(records[index].proxy);
+  broad_phase_.jointed_pairs_dirty = true;
+  broad_phase_.tree.destroy_proxy(records[index].proxy);
 
   auto snapshot = std::make_unique<FxEntity::Snapshot>();
   snapshot->record = std::move(records[index]);
-  snapshot->sim = sims[index];
+  snapshot->sim = bodies_.sims[index];
   std::shared_ptr<FxEntity> keep_alive = std::move(snapshot->record.handle);
   entity.detached_ = std::move(snapshot);
   entity.world_ = nullptr;
 
   records.erase(records.begin() + index);
-  sims.erase(sims.begin() + index);
+  bodies_.sims.erase(bodies_.sims.begin() + index);
   auto shifted = [index](std::uint32_t i) { return i > index ? i - 1 : i; };
   for (std::uint32_t i = index; i < records.size(); ++i) {
     records[i].handle->packed_index_ = i;
-    body_of_proxy[records[i].proxy] = i;
+    broad_phase_.body_of_proxy[records[i].proxy] = i;
   }
-  for (CachedContact& contact : contacts.slots) {
+  for (CachedContact& contact : contacts_.slots) {
     contact.body_a = shifted(contact.body_a);
     contact.body_b = shifted(contact.body_b);
   }
@@ -174,10 +164,10 @@ void World::remove_entity(std::uint32_t index) {
 }
 
 void World::refresh_aabb(std::uint32_t index) {
-  BodySim& sim = sims[index];
-  BodyRecord& record = records[index];
+  BodySim& sim = bodies_.sims[index];
+  BodyRecord& record = bodies_.records[index];
   record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
-  if (!tree.fat_box(record.proxy).contains(sim.aabb)) record.moved = true;
+  broad_phase_.refresh(record, sim.aabb);
 }
 
 void World::add_constraint(std::shared_ptr<FxConstraint> constraint) {
@@ -185,30 +175,30 @@ void World::add_constraint(std::shared_ptr<FxConstraint> constraint) {
   const std::uint32_t a = index_of(*constraint->entity_a());
   const std::uint32_t b = index_of(*constraint->entity_b());
   // Jointed bodies do not collide: drop a contact they may already have.
-  for (int edge = records[a].contact_head; edge >= 0; edge = contacts.next(edge)) {
-    if (contacts.other_body(edge) != b) continue;
-    const CachedContact& contact = contacts.slots[ContactCache::contact_of(edge)];
-    contacts.destroy(ContactCache::contact_of(edge), records[contact.body_a].contact_head,
-                     records[contact.body_b].contact_head);
+  for (int edge = bodies_.records[a].contact_head; edge >= 0; edge = contacts_.next(edge)) {
+    if (contacts_.other_body(edge) != b) continue;
+    const CachedContact& contact = contacts_.slots[ContactCache::contact_of(edge)];
+    contacts_.destroy(ContactCache::contact_of(edge), bodies_.records[contact.body_a].contact_head,
+                      bodies_.records[contact.body_b].contact_head);
     break;
   }
-  constraints.push_back(std::move(constraint));
-  jointed_pairs_dirty = true;
+  constraints_.push_back(std::move(constraint));
+  broad_phase_.jointed_pairs_dirty = true;
 }
 
 void World::remove_constraint(const FxConstraint& constraint) {
-  std::erase_if(constraints, [&](const std::shared_ptr<FxConstraint>& c) { return c.get() == &constraint; });
-  jointed_pairs_dirty = true;
+  std::erase_if(constraints_, [&](const std::shared_ptr<FxConstraint>& c) { return c.get() == &constraint; });
+  broad_phase_.jointed_pairs_dirty = true;
 }
 
 World::~World() {
   // Handles outlive the scene: leave each one a snapshot of its last state.
-  for (std::size_t i = 0; i < records.size(); ++i) {
-    FxEntity& entity = *records[i].handle;
+  for (std::size_t i = 0; i < bodies_.records.size(); ++i) {
+    FxEntity& entity = *bodies_.records[i].handle;
     auto snapshot = std::make_unique<FxEntity::Snapshot>();
-    snapshot->record = records[i];
+    snapshot->record = bodies_.records[i];
     snapshot->record.handle.reset();
-    snapshot->sim = sims[i];
+    snapshot->sim = bodies_.sims[i];
     entity.detached_ = std::move(snapshot);
     entity.world_ = nullptr;
   }
@@ -217,14 +207,14 @@ World::~World() {
 }  // namespace detail
 
 const detail::BodyRecord& FxEntity::record() const {
-  return world_ ? world_->records[packed_index_] : detached_->record;
+  return world_ ? world_->bodies().records[packed_index_] : detached_->record;
 }
 
-const detail::BodySim& FxEntity::sim() const { return world_ ? world_->sims[packed_index_] : detached_->sim; }
+const detail::BodySim& FxEntity::sim() const { return world_ ? world_->bodies().sims[packed_index_] : detached_->sim; }
 
 detail::BodySim& FxEntity::live_sim(const char* operation) {
   if (!world_) throw FxInvalidArgument(std::string("FxEntity::") + operation + ": expected an entity in a scene");
-  return world_->sims[packed_index_];
+  return world_->sim(packed_index_);
 }
 
 FxBodyType FxEntity::type() const { return record().type; }
@@ -261,7 +251,7 @@ void FxEntity::set_linear_velocity(FxVec2f velocity) {
   if (type() == FxBodyType::static_body) return;
   detail::BodySim& body = live_sim("set_linear_velocity");
   body.linear_velocity = velocity;
-  detail::clamp_velocity(world_->settings, body);
+  detail::clamp_velocity(world_->settings(), body);
   wake();
 }
 
@@ -270,7 +260,7 @@ void FxEntity::set_angular_velocity(float velocity) {
   if (type() == FxBodyType::static_body) return;
   detail::BodySim& body = live_sim("set_angular_velocity");
   body.angular_velocity = velocity;
-  detail::clamp_velocity(world_->settings, body);
+  detail::clamp_velocity(world_->settings(), body);
   wake();
 }
 
@@ -282,7 +272,7 @@ void FxEntity::apply_linear_impulse(FxVec2f impulse, FxVec2f world_point) {
   if (type() != FxBodyType::dynamic) return;
   body.linear_velocity += body.inv_mass * impulse;
   body.angular_velocity += body.inv_inertia * cross(world_point - world_center(), impulse);
-  detail::clamp_velocity(world_->settings, body);
+  detail::clamp_velocity(world_->settings(), body);
   wake();
 }
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "fx2d/Constraint.h"
-#include "world.h"
+#include "bodies.h"
 
 namespace fx2d {
 namespace {

@@ -15,7 +15,7 @@
 
 namespace fx2d::detail {
 
-inline constexpr int fx_lanes = 8;
+inline constexpr int lane_count = 8;
 
 // Where the CPU allows more than the build's baseline instruction set, a lane kernel is compiled
 // a second time for AVX2 and the loader picks the version (an ifunc), so a portable binary still
@@ -39,7 +39,7 @@ static_assert(offsetof(FxBodyState, linear_velocity) == velocity_row && offsetof
               "the velocity row is velocity, spin and flags");
 static_assert(offsetof(FxBodyState, delta_position) == pose_row && offsetof(FxBodyState, delta_rotation) == 24,
               "the pose row is displacement and rotation");
-static_assert(fx_lanes == 8, "gather_columns and scatter_columns transpose eight rows");
+static_assert(lane_count == 8, "gather_columns and scatter_columns transpose eight rows");
 
 // One row of eight bodies, as four columns.
 struct LaneColumns {

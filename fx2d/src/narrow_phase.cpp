@@ -2,10 +2,13 @@
 // Pairs whose fat boxes separated are destroyed; a pair that begins touching a sleeping body
 // wakes it. Each pair is collided in a frame centred on body a's origin, built from the precise
 // (carried) positions, so coordinates stay small however far the pair is from the world origin.
+#include "narrow_phase.h"
+
 #include <algorithm>
 #include <cmath>
 
-#include "world.h"
+#include "sleep.h"
+#include "step_context.h"
 
 namespace fx2d::detail {
 namespace {
@@ -34,12 +37,12 @@ void keep_points_within(Manifold& manifold, float distance) {
 // speed towards the other: either may stop against a third body mid-step while the other keeps
 // going. A column falling in unison has no relative speed, yet its lowest body lands first and
 // the next one closes on it at full speed. Spins add their speed at the shapes' extents.
-PairMotion World::pair_motion(std::uint32_t a, std::uint32_t b) const {
-  const BodySim& sa = sims[a];
-  const BodySim& sb = sims[b];
+PairMotion pair_motion(const Bodies& bodies, std::uint32_t a, std::uint32_t b) {
+  const BodySim& sa = bodies.sims[a];
+  const BodySim& sb = bodies.sims[b];
   return {sa.linear_velocity, sb.linear_velocity,
-          std::fabs(sa.angular_velocity) * records[a].shape.extent() +
-              std::fabs(sb.angular_velocity) * records[b].shape.extent()};
+          std::fabs(sa.angular_velocity) * bodies.records[a].shape.extent() +
+              std::fabs(sb.angular_velocity) * bodies.records[b].shape.extent()};
 }
 
 float PairMotion::fastest_closing() const {
@@ -54,15 +57,15 @@ float PairMotion::closing_along(FxVec2f normal) const {
   return std::max({length(velocity_b - velocity_a), dot(velocity_a, normal), -dot(velocity_b, normal)}) + spin_speed;
 }
 
-void World::update_contacts() {
+void update_contacts(const StepContext& step, ContactCache& contacts, Bodies& bodies, const AabbTree& tree) {
   Manifold manifold;
   for (int id = 0; id < static_cast<int>(contacts.slots.size()); ++id) {
     CachedContact& contact = contacts.slots[id];
     if (!contact.alive) continue;
     const std::uint32_t a = contact.body_a;
     const std::uint32_t b = contact.body_b;
-    BodyRecord& ra = records[a];
-    BodyRecord& rb = records[b];
+    BodyRecord& ra = bodies.records[a];
+    BodyRecord& rb = bodies.records[b];
     const bool active_a = ra.awake && ra.type != FxBodyType::static_body;
     const bool active_b = rb.awake && rb.type != FxBodyType::static_body;
     if (!active_a && !active_b) continue;
@@ -70,18 +73,18 @@ void World::update_contacts() {
       contacts.destroy(id, ra.contact_head, rb.contact_head);
       continue;
     }
-    const BodySim& sa = sims[a];
-    const BodySim& sb = sims[b];
+    const BodySim& sa = bodies.sims[a];
+    const BodySim& sb = bodies.sims[b];
     // Collided at the widest margin any normal could need, then trimmed to the one it found.
-    const PairMotion motion = pair_motion(a, b);
-    collide(ra.shape, FxTransform{{}, sa.rotation}, rb.shape, FxTransform{origin_offset(a, b), sb.rotation},
-            speculative_distance(settings.dt, motion.fastest_closing()), manifold);
-    keep_points_within(manifold, speculative_distance(settings.dt, motion.closing_along(manifold.normal)));
+    const PairMotion motion = pair_motion(bodies, a, b);
+    collide(ra.shape, FxTransform{{}, sa.rotation}, rb.shape, FxTransform{bodies.origin_offset(a, b), sb.rotation},
+            speculative_distance(step.settings.dt, motion.fastest_closing()), manifold);
+    keep_points_within(manifold, speculative_distance(step.settings.dt, motion.closing_along(manifold.normal)));
     const bool was_touching = contact.touching;
     contacts.update_manifold(contact, manifold);
     if (contact.touching && !was_touching) {
-      if (!ra.awake && active_b) wake_body(a);
-      if (!rb.awake && active_a) wake_body(b);
+      if (!ra.awake && active_b) wake_body(bodies, a);
+      if (!rb.awake && active_a) wake_body(bodies, b);
     }
   }
 }

@@ -30,8 +30,9 @@ inline std::uint64_t read_cycle_counter() {
 
 // Charges the time between two switches to the stage that ran in between, and the time from the
 // last switch to its own end. One counter read per change of stage, and none for a switch to the
-// stage already running: a substep changes stage four times, where a scope around each of its
-// sections read the counter 24 times (rdtsc takes 20 ns on these virtual machines).
+// stage already running: a substep without joints changes stage five times (integrate, warm
+// start, solve, integrate, relax), where a scope around each of its sections would read the
+// counter twice per section and pass (rdtsc takes 20 ns on these virtual machines).
 #if FX2D_PROFILE
 class StageClock {
  public:

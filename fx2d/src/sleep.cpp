@@ -3,9 +3,11 @@
 // Islands are found afresh each step with a union-find over the packed arrays, whose roots are
 // the lowest packed index of each island, so the result depends only on the state, not on history.
 // A sleeping body remembers its island's root in sleep_island; waking one wakes them all.
+#include "sleep.h"
+
 #include <algorithm>
 
-#include "world.h"
+#include "step_context.h"
 
 namespace fx2d::detail {
 namespace {
@@ -26,8 +28,18 @@ void unite(std::vector<int>& parent, int a, int b) {
 
 }  // namespace
 
-void World::update_sleep() {
+void SleepScratch::reserve(std::size_t bodies) {
+  island_parent.reserve(bodies);
+  island_min_sleep_time.reserve(bodies);
+}
+
+void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies, const ContactCache& contacts,
+                  const Constraints& constraints, std::span<const std::uint32_t> moving) {
+  const FxSceneSettings& settings = step.settings;
   if (!settings.sleeping) return;
+  std::vector<BodyRecord>& records = bodies.records;
+  std::vector<int>& island_parent = scratch.island_parent;
+  std::vector<float>& island_min_sleep_time = scratch.island_min_sleep_time;
   const int count = static_cast<int>(records.size());
   island_parent.resize(records.size());
   for (int i = 0; i < count; ++i) island_parent[i] = i;
@@ -48,28 +60,28 @@ void World::update_sleep() {
   }
 
   island_min_sleep_time.assign(records.size(), settings.time_to_sleep);
-  for (const std::uint32_t i : integration.moving_bodies()) {
+  for (const std::uint32_t i : moving) {
     if (records[i].type != FxBodyType::dynamic) continue;
     float& island_time = island_min_sleep_time[find_root(island_parent, static_cast<int>(i))];
     island_time = std::min(island_time, records[i].sleep_time);
   }
-  for (const std::uint32_t i : integration.moving_bodies()) {
+  for (const std::uint32_t i : moving) {
     if (records[i].type != FxBodyType::dynamic) continue;
     const int root = find_root(island_parent, static_cast<int>(i));
     if (island_min_sleep_time[root] < settings.time_to_sleep) continue;
     BodyRecord& record = records[i];
     record.awake = false;
     record.sleep_island = root;
-    sims[i].linear_velocity = {};
-    sims[i].angular_velocity = 0.0f;
+    bodies.sims[i].linear_velocity = {};
+    bodies.sims[i].angular_velocity = 0.0f;
   }
 }
 
-void World::wake_body(std::uint32_t index) {
-  const BodyRecord& target = records[index];
+void wake_body(Bodies& bodies, std::uint32_t index) {
+  const BodyRecord& target = bodies.records[index];
   if (target.awake || target.type == FxBodyType::static_body) return;
   const int island = target.sleep_island;
-  for (BodyRecord& record : records) {
+  for (BodyRecord& record : bodies.records) {
     if (record.awake || record.sleep_island != island) continue;
     record.awake = true;
     record.sleep_time = 0.0f;

@@ -22,7 +22,7 @@ std::vector<ContactConstraint> pairs_to_constraints(const std::vector<std::pair<
 }
 
 // Checks the invariant and returns how many constraints the groups hold in all.
-std::size_t check_colouring(const FxContactGraph& graph, const std::vector<ContactConstraint>& constraints,
+std::size_t check_colouring(const ContactGraph& graph, const std::vector<ContactConstraint>& constraints,
                             const std::vector<std::uint8_t>& movable) {
   std::vector<int> seen(constraints.size(), 0);
   std::size_t total = 0;
@@ -37,7 +37,7 @@ std::size_t check_colouring(const FxContactGraph& graph, const std::vector<Conta
       }
     }
   }
-  for (const int index : graph.members(FxContactGraph::overflow)) {
+  for (const int index : graph.members(ContactGraph::overflow)) {
     ++seen[index];
     ++total;
   }
@@ -60,7 +60,7 @@ TEST(ContactGraph, RandomGraphsNeverShareAMovableBodyWithinAColour) {
       if (a != b) pairs.emplace_back(std::min(a, b), std::max(a, b));
     }
     const auto constraints = pairs_to_constraints(pairs);
-    FxContactGraph graph;
+    ContactGraph graph;
     graph.build(constraints, movable);
     EXPECT_EQ(check_colouring(graph, constraints, movable), constraints.size()) << "trial " << trial;
   }
@@ -73,24 +73,24 @@ TEST(ContactGraph, StaticBodiesNeverConflict) {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   for (std::uint32_t i = 1; i <= 40; ++i) pairs.emplace_back(0, i);
   const auto constraints = pairs_to_constraints(pairs);
-  FxContactGraph graph;
+  ContactGraph graph;
   graph.build(constraints, movable);
   EXPECT_EQ(graph.colour_count(), 1);
-  EXPECT_TRUE(graph.members(FxContactGraph::overflow).empty());
+  EXPECT_TRUE(graph.members(ContactGraph::overflow).empty());
 }
 
 TEST(ContactGraph, WhatFitsNoColourGoesToOverflow) {
   // A hub body touching more bodies than there are colours: the rest overflows, in order.
-  const std::uint32_t spokes = FxContactGraph::max_colours + 5;
+  const std::uint32_t spokes = ContactGraph::max_colours + 5;
   std::vector<std::uint8_t> movable(spokes + 1, 1);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   for (std::uint32_t i = 1; i <= spokes; ++i) pairs.emplace_back(0, i);
   const auto constraints = pairs_to_constraints(pairs);
-  FxContactGraph graph;
+  ContactGraph graph;
   graph.build(constraints, movable);
-  EXPECT_EQ(graph.colour_count(), FxContactGraph::max_colours);
-  ASSERT_EQ(graph.members(FxContactGraph::overflow).size(), 5u);
-  EXPECT_EQ(graph.members(FxContactGraph::overflow)[0], FxContactGraph::max_colours);
+  EXPECT_EQ(graph.colour_count(), ContactGraph::max_colours);
+  ASSERT_EQ(graph.members(ContactGraph::overflow).size(), 5u);
+  EXPECT_EQ(graph.members(ContactGraph::overflow)[0], ContactGraph::max_colours);
   check_colouring(graph, constraints, movable);
 }
 

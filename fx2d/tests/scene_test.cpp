@@ -1,11 +1,12 @@
 // The scene as a registry and an API: packed indices, removal at any time (also from the step
-// callback), handles that outlive removal and the scene, validation that names the field, and
-// determinism within a process.
+// callback), handles that outlive removal and the scene, validation that names the field, the
+// profile's timer per stage, and determinism within a process.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -90,6 +91,27 @@ TEST(Registry, HandlesOutliveTheScene) {
   EXPECT_FALSE(survivor->in_scene());
   EXPECT_LT(survivor->position().y, 2.0f);
   EXPECT_THROW(survivor->set_linear_velocity({1.0f, 0.0f}), FxInvalidArgument);
+}
+
+TEST(Profile, EveryStageFunctionOfAStepWithContactsAndAJointIsTimed) {
+  if (!fx_profiling_enabled()) GTEST_SKIP() << "built without FX2D_PROFILE: the profile stays zero";
+  FxScene scene;
+  add_ground(scene);
+  const auto lower = add_box(scene, {0.0f, 0.5f});
+  const auto upper = add_box(scene, {0.0f, 1.5f});
+  scene.add_constraint(std::make_shared<FxRevoluteJoint>(lower, upper, FxVec2f{0.0f, 1.0f}));
+  scene.step();
+  scene.step();
+  // The counter is read where the step changes stage, so a stage the step never switches to
+  // keeps zero cycles; and the stages together never exceed the step that holds them.
+  const FxProfile& profile = scene.profile();
+  std::uint64_t stages = 0;
+  for (int i = 0; i < fx_stage_count; ++i) {
+    const auto stage = static_cast<FxStage>(i);
+    EXPECT_GT(profile.cycles(stage), 0u) << stage_name(stage);
+    stages += profile.cycles(stage);
+  }
+  EXPECT_LE(stages, profile.step_cycles);
 }
 
 TEST(Validation, SceneSettingsNameTheBadField) {

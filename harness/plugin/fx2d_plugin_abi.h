@@ -117,7 +117,9 @@ typedef struct Fx2dBenchPluginV1 {
   void (*destroy)(Fx2dBenchInstance* instance);
   /* Advances one time step of the scene's dt. */
   void (*step)(Fx2dBenchInstance* instance);
-  /* The engine's own phase split: count, names, and the last step's milliseconds per phase. */
+  /* The engine's own phase split: count, names, and the last step's milliseconds per phase. The
+   * list is data, not layout: plugins of different revisions may name different phases
+   * (RESULTS_FORMAT.md, "Fx2D's phase names"), with no change of abi_version. */
   int32_t (*phase_count)(void);
   const char* (*phase_name)(int32_t phase);
   void (*read_phases)(const Fx2dBenchInstance* instance, double* ms, int32_t count);

@@ -154,6 +154,41 @@ TEST_F(CompareFiles, IdenticalFilesAreNoChangeWithSamePhysicsAndExitZero) {
   EXPECT_EQ(report.exit_code(), exit_ok);
 }
 
+// `run` with its step split into the named phases in the given shares.
+RunRecord with_phases(RunRecord run, const std::vector<std::pair<std::string, double>>& shares) {
+  run.phase_names.clear();
+  for (const auto& share : shares) run.phase_names.push_back(share.first);
+  run.phase_ms.clear();
+  for (const double ms : run.wall_ms) {
+    for (const auto& share : shares) run.phase_ms.push_back(share.second * ms);
+  }
+  return run;
+}
+
+// Fx2D's phases before each stage function had a timer (RESULTS_FORMAT.md, "Fx2D's phase names"),
+// and the same steps split into today's stages so that each old phase is the sum of its stages.
+const std::vector<std::pair<std::string, double>> old_fx2d_phases = {
+    {"integration", 0.10},    {"broad_phase", 0.05}, {"narrow_phase", 0.15}, {"velocity_passes", 0.50},
+    {"position_solve", 0.05}, {"constraints", 0.05}, {"bookkeeping", 0.10}};
+const std::vector<std::pair<std::string, double>> new_fx2d_phases = {
+    {"broad_phase", 0.05}, {"collide", 0.15},     {"prepare", 0.05},        {"colour_and_pack", 0.05},
+    {"integrate", 0.10},   {"warm_start", 0.05},  {"solve", 0.20},          {"relax", 0.10},
+    {"restitution", 0.05}, {"position_solve", 0.05}, {"constraints", 0.05}, {"store", 0.04},
+    {"sleep", 0.06}};
+
+TEST_F(CompareFiles, OldPhaseNamesCompareWithTheSumsOfTheStagesTheyCovered) {
+  const ResultSet old_file = results_of({with_phases(synthetic_run("fx2d", "pile", 1.0, 0), old_fx2d_phases)});
+  const ResultSet new_file = results_of({with_phases(synthetic_run("fx2d", "pile", 1.0, 0), new_fx2d_phases)});
+  for (const CompareReport& report : {compare(old_file, new_file), compare(new_file, old_file)}) {
+    ASSERT_EQ(report.rows.size(), 2u + old_fx2d_phases.size());  // ms, cycles, then every old phase
+    for (const auto& [name, share] : old_fx2d_phases) {
+      const CompareRow& row = row_of(report, "fx2d", "pile", "phase:" + name);
+      EXPECT_NEAR(row.estimate.ratio, 1.0, 1e-9) << name;
+      EXPECT_EQ(row.speed.speed, Speed::no_change) << name;
+    }
+  }
+}
+
 TEST_F(CompareFiles, TenPercentSlowerStepsAreARegressionInEveryMetricAndExitOne) {
   const CompareReport report = compare(results_of({synthetic_run("fx2d", "pile", 1.0, 0)}),
                                        results_of({synthetic_run("fx2d", "pile", 1.1, 5)}));

@@ -1,9 +1,10 @@
-// Where a step's time went: one timer per named stage of FxScene::step().
+// Where a step's time went: one timer per stage function of FxScene::step().
 //
-// The stages are the functions of the step (see src/scene.cpp), so a phase in a result file maps
-// onto code a reader can open. Cycles come from the time-stamp counter (reference cycles, not
-// core cycles) read at stage boundaries; milliseconds are the step's wall-clock time shared out in
-// proportion to cycles, which costs one clock read per step instead of two per stage. With
+// Each stage is one function of the step (see src/scene.cpp), so a phase in a result file names
+// code a reader can open. Cycles come from the time-stamp counter (reference cycles, not core
+// cycles) read where the step changes stage, once per change; milliseconds are the step's
+// wall-clock time shared out in proportion to cycles, which costs one clock read per step instead
+// of two per stage. The step callback runs after the last stage and is in no stage. With
 // FX2D_PROFILE off, the timers compile to nothing and the profile stays zero.
 #pragma once
 
@@ -14,19 +15,26 @@
 namespace fx2d {
 
 enum class FxStage : int {
-  integration,      // velocity and position integration, pose finalisation
-  broad_phase,      // bounding boxes, proxy tree updates, new pair search
-  narrow_phase,     // contact manifolds and the contact cache
-  velocity_passes,  // contact preparation, colouring, warm starting, velocity passes, relaxation, restitution
-  position_solve,   // the final non-linear position projection
+  broad_phase,      // update_broad_phase: proxy tree updates, new pair search
+  collide,          // update_contacts: contact manifolds and the contact cache
+  prepare,          // prepare_solver: gather the bodies' state, build the contact constraints
+  colour_and_pack,  // colour_and_pack: colour the constraints, pack them into batches, first separations
+  integrate,        // integrate_velocities and integrate_positions per substep, finalize_bodies
+  warm_start,       // warm_start: the contacts' accumulated impulses, per substep
+  solve,            // solve: the velocity passes with position correction, per substep
+  relax,            // relax: separations at the new poses, passes without correction, per substep
+  restitution,      // apply_restitution, after the substeps
+  position_solve,   // solve_positions: the final non-linear position projection
   constraints,      // user constraints (joints): preparation and their share of every pass
-  bookkeeping,      // sleeping, impulse storage, the step callback
+  store,            // store_impulses: impulses kept for the next step's warm start
+  sleep,            // update_sleep: resting islands
 };
-inline constexpr int fx_stage_count = 7;
+inline constexpr int fx_stage_count = 13;
 
 constexpr std::string_view stage_name(FxStage stage) {
   constexpr std::array<std::string_view, fx_stage_count> names = {
-      "integration", "broad_phase", "narrow_phase", "velocity_passes", "position_solve", "constraints", "bookkeeping"};
+      "broad_phase", "collide",     "prepare",        "colour_and_pack", "integrate", "warm_start", "solve",
+      "relax",       "restitution", "position_solve", "constraints",     "store",     "sleep"};
   return names[static_cast<int>(stage)];
 }
 

@@ -1,0 +1,39 @@
+// Broad phase: each body's proxy in the AABB tree, and the search for pairs whose fat boxes begin
+// to overlap (broad_phase.cpp). The stage owns the tree and its scratch; the other stages only
+// read the fat boxes.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "aabb_tree.h"
+#include "bodies.h"
+#include "contact_cache.h"
+
+namespace fx2d::detail {
+
+struct StepContext;
+
+struct BroadPhase {
+  AabbTree tree;
+  std::vector<std::uint32_t> body_of_proxy;  // proxy id -> packed index
+  // Pairs (a << 32 | b, a < b) joined by a constraint, sorted: they never collide.
+  std::vector<std::uint64_t> jointed_pairs;
+  bool jointed_pairs_dirty = false;
+  // Scratch reused every step.
+  std::vector<std::uint32_t> moved_bodies;
+  std::vector<std::uint64_t> new_pairs;  // (moved body << 32 | other body) of each pair found this step
+
+  void reserve(std::size_t bodies);
+  // Gives body `index` a proxy for its tight box `aabb`.
+  int create_proxy(const FxAABB& aabb, std::uint32_t index);
+  // Marks the body moved when its tight box has left its proxy's fat box.
+  void refresh(BodyRecord& record, const FxAABB& aabb) const;
+};
+
+// Stage: moves the proxies of the bodies that left their fat boxes and creates a contact for each
+// new overlapping pair, in the order of the bodies' indices.
+void update_broad_phase(const StepContext& step, BroadPhase& broad, Bodies& bodies, ContactCache& contacts,
+                        const Constraints& constraints);
+
+}  // namespace fx2d::detail

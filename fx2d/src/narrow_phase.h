@@ -1,0 +1,28 @@
+// Narrow phase: refreshes the manifold of every cached pair with an awake body (narrow_phase.cpp).
+#pragma once
+
+#include <cstdint>
+
+#include "aabb_tree.h"
+#include "bodies.h"
+#include "contact_cache.h"
+
+namespace fx2d::detail {
+
+struct StepContext;
+
+// How fast two bodies could close within the step, for their speculative margin.
+struct PairMotion {
+  FxVec2f velocity_a, velocity_b;
+  float spin_speed;  // what the spins add at the shapes' extents
+  float fastest_closing() const;                 // along any direction
+  float closing_along(FxVec2f normal) const;     // along `normal`, from A towards B
+};
+
+PairMotion pair_motion(const Bodies& bodies, std::uint32_t a, std::uint32_t b);
+
+// Stage: collides every cached pair with an awake body, destroys the pairs whose fat boxes
+// separated and wakes a sleeping body that a pair begins to touch.
+void update_contacts(const StepContext& step, ContactCache& contacts, Bodies& bodies, const AabbTree& tree);
+
+}  // namespace fx2d::detail

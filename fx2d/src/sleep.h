@@ -1,0 +1,30 @@
+// Sleeping: resting islands sleep as a whole and wake together (sleep.cpp).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "bodies.h"
+#include "contact_cache.h"
+
+namespace fx2d::detail {
+
+struct StepContext;
+
+// The union-find's scratch, reused every step.
+struct SleepScratch {
+  std::vector<int> island_parent;
+  std::vector<float> island_min_sleep_time;
+
+  void reserve(std::size_t bodies);
+};
+
+// Stage: puts to sleep every island of `moving` bodies whose bodies all rested time_to_sleep.
+void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies, const ContactCache& contacts,
+                  const Constraints& constraints, std::span<const std::uint32_t> moving);
+
+// Wakes the island of body `index` (nothing for an awake or static body).
+void wake_body(Bodies& bodies, std::uint32_t index);
+
+}  // namespace fx2d::detail

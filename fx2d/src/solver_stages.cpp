@@ -1,0 +1,216 @@
+// The solver's stages of a step (solver_stages.h). Collision runs once per step and substeps stay
+// cheap: contact anchors are fixed for the step and separations are updated from each body's
+// accumulated displacement.
+#include "solver_stages.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "step_context.h"
+
+namespace fx2d::detail {
+namespace {
+
+// How user constraints (joints) see the solver's state during the substeps.
+class SolverConstraintContext final : public FxConstraintContext {
+ public:
+  SolverConstraintContext(const StepContext& step, SolverData& solver, const Bodies& bodies)
+      : solver_(solver), bodies_(bodies) {
+    substep_dt = step.substep_dt;
+    inv_substep_dt = step.contact.inv_substep_dt;
+    softness = step.joint_softness;
+    max_bias_velocity = step.settings.max_push_speed;
+    max_linear_speed = step.limits.max_speed;
+    max_angular_speed = step.limits.max_spin;
+  }
+  FxBodyState& state(const FxEntity& e) override { return solver_.states[e.packed_index()]; }
+  float inv_mass(const FxEntity& e) const override { return sim(e).inv_mass; }
+  float inv_inertia(const FxEntity& e) const override { return sim(e).inv_inertia; }
+  FxRot start_rotation(const FxEntity& e) const override { return sim(e).rotation; }
+  FxVec2f center_offset(const FxEntity& a, const FxEntity& b) const override {
+    return bodies_.center_offset(a.packed_index(), b.packed_index());
+  }
+  FxVec2f local_center(const FxEntity& e) const override { return sim(e).local_center; }
+
+ private:
+  const BodySim& sim(const FxEntity& e) const { return bodies_.sims[e.packed_index()]; }
+
+  SolverData& solver_;
+  const Bodies& bodies_;
+};
+
+// Component-wise, so that a force large enough to overflow inv_mass * force to infinity still gives
+// a finite acceleration (the velocity clamp then keeps its direction); below the bound, unchanged.
+FxVec2f clamped_acceleration(FxVec2f acceleration, float bound) {
+  return {std::clamp(acceleration.x, -bound, bound), std::clamp(acceleration.y, -bound, bound)};
+}
+
+}  // namespace
+
+void SolverData::reserve(std::size_t bodies) {
+  states.reserve(bodies + 1);
+  movable.reserve(bodies + 1);
+  integration.reserve(bodies);
+  contact_solver.constraints.reserve(4 * bodies);
+  contact_graph.reserve(4 * bodies, bodies + 1);
+  contact_batches.reserve(4 * bodies);
+}
+
+void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts) {
+  // Gather the hot state of every body; sleeping and static ones keep zero velocity and are
+  // never written by a constraint (a touching constraint always has its bodies awake).
+  const FxSceneSettings& settings = step.settings;
+  const std::vector<BodyRecord>& records = bodies.records;
+  const std::vector<BodySim>& sims = bodies.sims;
+  BodyIntegration& integration = solver.integration;
+  std::vector<FxBodyState>& states = solver.states;
+  std::vector<std::uint8_t>& movable = solver.movable;
+  integration.clear(step.body_count);
+  const float h = step.substep_dt;
+  states.resize(records.size() + 1);
+  states.back() = FxBodyState{};
+  movable.resize(records.size() + 1);
+  movable.back() = 0;
+  for (std::uint32_t i = 0; i < records.size(); ++i) {
+    movable[i] = records[i].type == FxBodyType::dynamic;
+    const bool moves = records[i].awake && records[i].type != FxBodyType::static_body;
+    FxBodyState& state = states[i];
+    state = FxBodyState{};
+    if (!moves) continue;
+    state.linear_velocity = sims[i].linear_velocity;
+    state.angular_velocity = sims[i].angular_velocity;
+    integration.add_moving(i);
+    if (records[i].type != FxBodyType::dynamic) continue;
+    integration.add_dynamic(i, clamped_acceleration(settings.gravity + sims[i].inv_mass * sims[i].force, step.max_acceleration),
+                            1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping));
+  }
+  integration.finish();
+  solver.contact_solver.prepare(contacts, bodies);
+}
+
+void colour_and_pack(const StepContext& step, SolverData& solver) {
+  const std::vector<ContactConstraint>& constraints = solver.contact_solver.constraints;
+  solver.contact_graph.build(constraints, solver.movable);
+  solver.contact_batches.pack(constraints, solver.contact_graph, step.body_count);
+  solver.contact_batches.update_separations(solver.states);
+}
+
+namespace {
+
+// The substep's stages. Each switches the step's clock to itself; a user constraint's share of
+// a stage is charged to FxStage::constraints.
+class Substep {
+ public:
+  Substep(const StepContext& step, SolverData& solver, const Bodies& bodies, const Constraints& constraints)
+      : step_(step), solver_(solver), constraints_(constraints), joints_(step, solver, bodies) {
+    if (constraints_.empty()) return;
+    step_.clock.switch_to(FxStage::constraints);
+    for (const auto& constraint : constraints_) constraint->prepare(joints_);
+  }
+
+  void integrate_velocities() {
+    step_.clock.switch_to(FxStage::integrate);
+    solver_.integration.integrate_velocities(solver_.states, step_.substep_dt, step_.limits);
+  }
+
+  void warm_start() {
+    if (!constraints_.empty()) {
+      step_.clock.switch_to(FxStage::constraints);
+      for (const auto& constraint : constraints_) constraint->warm_start(joints_);
+    }
+    step_.clock.switch_to(FxStage::warm_start);
+    solver_.contact_batches.warm_start(solver_.states, step_.settings.force_scalar_solver);
+  }
+
+  void solve() {
+    for (int pass = 0; pass < step_.settings.velocity_passes; ++pass) velocity_pass(FxStage::solve, true);
+  }
+
+  void integrate_positions() {
+    step_.clock.switch_to(FxStage::integrate);
+    // Clamped again here and at the step's end: the passes can push a body squeezed between
+    // immovable bodies, or held by joints that fight, past the limits the integration kept.
+    solver_.integration.integrate_positions(solver_.states, step_.substep_dt, step_.limits);
+  }
+
+  void relax() {
+    step_.clock.switch_to(FxStage::relax);
+    solver_.contact_batches.update_separations(solver_.states);
+    for (int pass = 0; pass < step_.settings.relax_passes; ++pass) velocity_pass(FxStage::relax, false);
+  }
+
+ private:
+  // One pass over every constraint, then every contact: contacts last, so they win conflicts.
+  void velocity_pass(FxStage stage, bool use_bias) {
+    if (!constraints_.empty()) {
+      step_.clock.switch_to(FxStage::constraints);
+      for (const auto& constraint : constraints_) constraint->evaluate(joints_, use_bias);
+    }
+    step_.clock.switch_to(stage);
+    solver_.contact_batches.resolve_velocities(solver_.states, step_.contact, use_bias,
+                                               step_.settings.force_scalar_solver);
+  }
+
+  const StepContext& step_;
+  SolverData& solver_;
+  const Constraints& constraints_;
+  SolverConstraintContext joints_;
+};
+
+}  // namespace
+
+void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& bodies, const Constraints& constraints) {
+  Substep substep(step, solver, bodies, constraints);
+  for (int i = 0; i < step.settings.substeps; ++i) {
+    substep.integrate_velocities();
+    substep.warm_start();
+    substep.solve();
+    substep.integrate_positions();
+    substep.relax();
+  }
+}
+
+void apply_restitution(const StepContext& step, SolverData& solver) {
+  solver.contact_batches.unpack(solver.contact_solver.constraints);
+  solver.contact_solver.apply_restitution(solver.states, step.settings.restitution_threshold);
+}
+
+void solve_positions(const StepContext& step, SolverData& solver) {
+  for (int pass = 0; pass < step.settings.position_passes; ++pass) {
+    solver.contact_solver.project_positions(solver.states, step.settings.linear_slop);
+  }
+}
+
+void finalize_bodies(const StepContext& step, const SolverData& solver, Bodies& bodies, const BroadPhase& broad) {
+  const FxSceneSettings& settings = step.settings;
+  const float dt = settings.dt;
+  for (const std::uint32_t i : solver.integration.moving_bodies()) {
+    BodySim& sim = bodies.sims[i];
+    BodyRecord& record = bodies.records[i];
+    const FxBodyState& state = solver.states[i];
+    const FxRot start = sim.rotation;
+    FxRot end = mul(state.delta_rotation, start);
+    const float norm = std::sqrt(end.c * end.c + end.s * end.s);
+    end = {end.c / norm, end.s / norm};
+    // The origin moves with the centre of mass and swings about it as the body turns.
+    const FxVec2f origin_step =
+        state.delta_position + rotate(start, sim.local_center) - rotate(end, sim.local_center);
+    FxCarryAdd(sim.origin, sim.carry, origin_step);
+    sim.rotation = end;
+    sim.linear_velocity = state.linear_velocity;
+    sim.angular_velocity = state.angular_velocity;
+    clamp_velocity(settings, sim);
+    sim.force = {};
+
+    const bool resting = length_squared(sim.linear_velocity) < settings.linear_sleep_speed * settings.linear_sleep_speed &&
+                         sim.angular_velocity * sim.angular_velocity < settings.angular_sleep_speed * settings.angular_sleep_speed;
+    record.sleep_time = (resting && record.can_sleep) ? record.sleep_time + dt : 0.0f;
+
+    record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
+    broad.refresh(record, sim.aabb);
+  }
+}
+
+void store_impulses(const SolverData& solver, ContactCache& contacts) { solver.contact_solver.store_impulses(contacts); }
+
+}  // namespace fx2d::detail

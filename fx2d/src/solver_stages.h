@@ -1,0 +1,56 @@
+// The solver's stages of a step, in order (solver_stages.cpp): gather the bodies' hot state and
+// build the contact constraints; colour and pack them into batches; per substep integrate
+// velocities, warm start, solve, integrate positions, relax; then restitution, the position
+// projection, the write-back of poses and the storage of impulses for the next step.
+//
+// SolverData is what these stages own. `states` is the hot 32-byte record of each body the velocity
+// passes touch, gathered once per step, with one extra, always-zero slot that padding lanes of
+// contact batches and body groups point at.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "bodies.h"
+#include "body_integration.h"
+#include "broad_phase.h"
+#include "contact_batch.h"
+#include "contact_cache.h"
+#include "contact_graph.h"
+#include "contact_solver.h"
+
+namespace fx2d::detail {
+
+struct StepContext;
+
+struct SolverData {
+  std::vector<FxBodyState> states;
+  std::vector<std::uint8_t> movable;  // per body (and the padding slot): can a contact change its state?
+  BodyIntegration integration;        // the awake moving bodies, for the substep loops
+  ContactSolver contact_solver;
+  ContactGraph contact_graph;
+  ContactBatches contact_batches;
+
+  void reserve(std::size_t bodies);
+};
+
+// Stage prepare: gathers the bodies' hot state and builds one constraint per touching contact
+// with an awake body.
+void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts);
+// Stage colour_and_pack: colours the contact constraints, packs them into batches and works out
+// their separations at the step's start.
+void colour_and_pack(const StepContext& step, SolverData& solver);
+// The substeps, each stage timed as its own FxStage: integrate, warm start, solve, integrate,
+// relax; user constraints (joints) are solved in the same passes, contacts last.
+void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& bodies, const Constraints& constraints);
+// Stage restitution: bounce where an approaching point pushed and restitution is > 0.
+void apply_restitution(const StepContext& step, SolverData& solver);
+// Stage position_solve: projects what overlap remains deeper than the slop.
+void solve_positions(const StepContext& step, SolverData& solver);
+// Stage integrate (its end): writes poses and velocities back to the bodies, with carries, and
+// refreshes their boxes.
+void finalize_bodies(const StepContext& step, const SolverData& solver, Bodies& bodies, const BroadPhase& broad);
+// Stage store: keeps each point's impulses in the contact cache for the next step's warm start.
+void store_impulses(const SolverData& solver, ContactCache& contacts);
+
+}  // namespace fx2d::detail
