@@ -5,6 +5,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -46,21 +48,19 @@ std::string read_bounded_file(const std::string& path, const std::string& kind, 
   struct stat status {};
   if (::fstat(file.get(), &status) == 0 && S_ISREG(status.st_mode) && static_cast<std::uintmax_t>(status.st_size) > max_bytes)
     throw too_large();
+  // Room for one byte past the bound, reserved once: pages are touched only as bytes arrive, and no
+  // regrowth copies the text, so the peak is the bytes read plus one chunk.
   std::string text;
-  constexpr std::size_t chunk = 64 * 1024;
-  while (true) {
-    const std::size_t used = text.size();
-    text.resize(used + chunk);
-    const ssize_t got = ::read(file.get(), text.data() + used, chunk);
-    if (got < 0 && errno == EINTR) {
-      text.resize(used);
-      continue;
-    }
+  text.reserve(max_bytes + 1);
+  std::array<char, 64 * 1024> chunk;
+  while (text.size() <= max_bytes) {
+    const ssize_t got = ::read(file.get(), chunk.data(), std::min(chunk.size(), max_bytes + 1 - text.size()));
+    if (got < 0 && errno == EINTR) continue;
     if (got < 0) throw InputError(path + ": cannot read: " + std::strerror(errno));
-    text.resize(used + static_cast<std::size_t>(got));
     if (got == 0) return text;
-    if (text.size() > max_bytes) throw too_large();
+    text.append(chunk.data(), static_cast<std::size_t>(got));
   }
+  throw too_large();
 }
 
 }  // namespace fxbench

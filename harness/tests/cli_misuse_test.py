@@ -79,6 +79,8 @@ MISUSES = [
     # compare
     Misuse("compare: a scene file as results", ["compare", "scenes/pile.json"], "not an fx2d-bench result file"),
     Misuse("compare: no file", ["compare"], "A is required"),
+    Misuse("compare: two files and --baseline", ["compare", "scenes/pile.json", "scenes/stacks.json", "--baseline",
+           "box2d"], "B excludes --baseline"),
     Misuse("compare: a missing option value", ["compare", "scenes/pile.json", "--noise"], "--noise"),
     # sweep
     Misuse("sweep: a text file as a scene", ["sweep", "scenes/README.md"], "syntax error"),
@@ -90,6 +92,7 @@ MISUSES = [
            ["sweep", "scenes/tests/polygon_and_joint.json", "--engine", "ode"], "engine ode cannot build polygons"),
     Misuse("sweep: no steps to measure", ["sweep", "pile", "--set", "/steps=0"], "/steps is 0"),
     # stability
+    Misuse("stability: --force without --out", ["stability", "--force"], "--force requires --out"),
     Misuse("stability: an unknown test", ["stability", "--test", "nosuch"], "nosuch"),
     Misuse("stability: a suite that is not there", ["stability", "--suite", "nowhere"], "nowhere"),
     Misuse("stability: a plugin that is not there", ["stability", "--engine", MISSING_PLUGIN], "nonexistent"),

@@ -127,7 +127,7 @@ def examples_of(path):
         paragraph_rest = text[match.end():].split("\n\n")[0]
         span = re.search(r"`([^`]+)`", paragraph_rest)
         if span and not paragraph_rest.startswith("\n"):
-            examples.append(Example(where, [span.group(1)], False, marker))
+            examples.append(Example(where, [" ".join(span.group(1).split())], False, marker))  # may wrap
             continue
         after = text.count("\n", 0, match.end())
         following = [block for block in blocks if block[0] > after]
