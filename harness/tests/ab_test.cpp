@@ -14,13 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "analysis/compare.h"
 #include "bench_process.h"
-#include "compare.h"
 #include "engines/plugin_engine.h"
+#include "measure/interleave.h"
 #include "plugin_copies.h"
-#include "interleave.h"
-#include "results_h5.h"
-#include "scene_loader.h"
+#include "scene/scene_loader.h"
+#include "storage/results_h5.h"
 
 namespace fxbench {
 namespace {

@@ -1,0 +1,651 @@
+// `fx2d-bench compare A.h5 [B.h5]`: is B faster, slower or less accurate than A, and may CI
+// trust the answer (compare.h states the invariants, statistics.h the method).
+//
+// Reads top to bottom: the samples each row compares, one row per metric of a pair of runs with
+// the accuracy deltas beside the step time, the exact instructions row where both runs were
+// counted (--counter instructions), the A/B pairing of runs by engine, scene and size
+// (with its refusals and warnings), the cross-engine pairing within one file, the verdict
+// counts, the three renderers, and the command line.
+#include "analysis/compare.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <tuple>
+
+#include "analysis/summary.h"
+#include "commands/commands.h"
+#include "engines/engine.h"
+#include "format/text_table.h"
+#include "measure/interleave.h"
+#include "storage/results_h5.h"
+
+namespace fxbench {
+namespace {
+
+constexpr const char* step_metric = "ms_per_step";
+constexpr const char* instructions_metric = "instructions_per_step";
+// Fewer pairs of rounds than this are too few to split into halves that say anything.
+constexpr int min_rounds_to_split = 8;
+
+std::string formatted(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+// One metric of one run, repeat-major [repeats x steps] like RunRecord's own series.
+struct MetricSamples {
+  std::string name;
+  std::vector<double> values;
+};
+
+std::vector<MetricSamples> metrics_of(const RunRecord& run, bool with_phases) {
+  std::vector<MetricSamples> metrics = {{step_metric, run.wall_ms},
+                                        {"cycles_per_step", std::vector<double>(run.cycles.begin(), run.cycles.end())}};
+  if (!with_phases) return metrics;
+  const std::size_t phase_count = run.phase_names.size();
+  for (std::size_t phase = 0; phase < phase_count; ++phase) {
+    MetricSamples& samples = metrics.emplace_back(MetricSamples{"phase:" + run.phase_names[phase], {}});
+    for (std::size_t i = phase; i < run.phase_ms.size(); i += phase_count) samples.values.push_back(run.phase_ms[i]);
+  }
+  return metrics;
+}
+
+// A metric that measured nothing (a phase timer compiled out, a counter the machine lacks, a
+// phase that takes no time in most steps) has no ratio: its row is left out rather than shown as 0/0.
+bool measured(const std::vector<double>& repeat_figures) {
+  return !repeat_figures.empty() && std::ranges::all_of(repeat_figures, [](double figure) { return figure > 0.0; });
+}
+
+// --- accuracy -----------------------------------------------------------------------------------
+
+AccuracyChange accuracy_change_of(double a, double b, double allowance, bool larger_is_worse) {
+  if (std::abs(b - a) <= allowance) return AccuracyChange::same;
+  if (!larger_is_worse) return AccuracyChange::changed;
+  return b > a ? AccuracyChange::worse : AccuracyChange::better;
+}
+
+// Lengths get the relative tolerance plus the floor; counts of bodies lost must not grow at all.
+std::vector<AccuracyDelta> accuracy_deltas(const RunRecord& a, const RunRecord& b, const std::string& primary_metric,
+                                           double tolerance) {
+  const AccuracySample worst_a = summarise(a).worst;
+  const AccuracySample worst_b = summarise(b).worst;
+  const auto length = [&](const char* name, double AccuracySample::*field, bool larger_is_worse) {
+    const double allowance = tolerance * std::abs(worst_a.*field) + accuracy_floor_m;
+    return AccuracyDelta{name, worst_a.*field, worst_b.*field,
+                         accuracy_change_of(worst_a.*field, worst_b.*field, allowance, larger_is_worse)};
+  };
+  const auto count = [&](const char* name, int AccuracySample::*field) {
+    const auto value_a = static_cast<double>(worst_a.*field);
+    const auto value_b = static_cast<double>(worst_b.*field);
+    return AccuracyDelta{name, value_a, value_b, accuracy_change_of(value_a, value_b, 0.0, true)};
+  };
+  return {length("max_penetration", &AccuracySample::max_penetration, true),
+          length("max_displacement", &AccuracySample::max_displacement, primary_metric == "displacement"),
+          count("escaped", &AccuracySample::escaped), count("nan", &AccuracySample::nan)};
+}
+
+// --- rows -------------------------------------------------------------------------------------
+
+struct RunPair {
+  const RunRecord& a;
+  const RunRecord& b;
+  std::string primary_metric;
+  std::optional<bool> same_physics;  // A/B only
+  bool with_phases = false;          // phases are named alike only within one engine
+  bool rounds_paired = false;        // repeat k of A and of B ran back to back (one `ab`)
+};
+
+// Step i of A and B did the same work when both runs stepped one deterministic trajectory.
+bool steps_correspond(const RunPair& pair) {
+  return pair.same_physics.value_or(false) && pair.a.deterministic && pair.b.deterministic &&
+         pair.a.steps == pair.b.steps;
+}
+
+// The row of `metric` for this pair, with only what names it filled in.
+CompareRow row_for(const RunPair& pair, const std::string& metric) {
+  CompareRow row;
+  row.engine = pair.b.engine;
+  row.against = pair.a.engine;
+  row.scene = pair.a.scene;
+  row.bodies = pair.a.bodies;
+  row.metric = metric;
+  row.same_physics = pair.same_physics;
+  return row;
+}
+
+std::optional<CompareRow> speed_row(const RunPair& pair, const MetricSamples& a, const MetricSamples& b,
+                                    const CompareSettings& settings) {
+  const auto steps_a = static_cast<std::size_t>(pair.a.steps);
+  const auto steps_b = static_cast<std::size_t>(pair.b.steps);
+  // Each repeat's median step, not its mean: statistics.h says why (preemption).
+  const std::vector<double> repeats_a = row_medians(a.values, steps_a);
+  const std::vector<double> repeats_b = row_medians(b.values, steps_b);
+  if (!measured(repeats_a) || !measured(repeats_b)) return std::nullopt;
+
+  CompareRow row = row_for(pair, a.name);
+  row.a = median(repeats_a);
+  row.b = median(repeats_b);
+  // An interrupted `ab` may leave one side a round ahead: its rounds no longer pair one to one.
+  row.rounds_paired = pair.rounds_paired && repeats_a.size() == repeats_b.size();
+  row.estimate = row.rounds_paired ? bootstrap_paired_median_ratio(repeats_a, repeats_b)
+                                   : bootstrap_median_ratio(repeats_a, repeats_b);
+  // The rounds of one `ab` are tested as the pairs the interval resamples, by the test of their
+  // median. A neighbour whose activity keeps time with the rounds can bias the per-step medians
+  // across them while leaving each round's median alone; one that slows some of one build's
+  // rounds a lot outweighs the rest in a signed-rank test, not in a count of signs (compare_test
+  // shows both).
+  if (row.rounds_paired) {
+    row.ratios_by_round_speed = ratios_by_round_speed(repeats_a, repeats_b);
+    row.test = paired_sign_test(repeats_a, repeats_b);
+    row.test_name = "sign-test-rounds";
+  } else if (steps_correspond(pair)) {
+    row.test = paired_log_ratio_test(column_medians(a.values, steps_a), column_medians(b.values, steps_b));
+    row.test_name = "wilcoxon-signed-rank-paired";
+  } else {
+    row.test = mann_whitney_u(repeats_a, repeats_b);
+    row.test_name = "mann-whitney-u";
+  }
+  row.repeats_a = static_cast<int>(repeats_a.size());
+  row.repeats_b = static_cast<int>(repeats_b.size());
+  row.speed = decide_speed(row.estimate, *row.test, std::min(row.repeats_a, row.repeats_b), settings.rules);
+  if (a.name == step_metric) {
+    row.accuracy = accuracy_deltas(pair.a, pair.b, pair.primary_metric, settings.accuracy_tolerance);
+    row.primary_metric = pair.primary_metric;
+  }
+  return row;
+}
+
+// One count per run, exact: the ratio is its own interval and there is nothing to test.
+std::optional<CompareRow> instructions_row(const RunPair& pair, const CompareSettings& settings) {
+  const std::optional<InstructionCount>& a = pair.a.instruction_count;
+  const std::optional<InstructionCount>& b = pair.b.instruction_count;
+  if (!a || !b || a->per_step() <= 0.0) return std::nullopt;
+  CompareRow row = row_for(pair, instructions_metric);
+  row.a = a->per_step();
+  row.b = b->per_step();
+  const double ratio = row.b / row.a;
+  row.estimate = {ratio, {ratio, ratio}};
+  row.test_name = "exact";
+  row.repeats_a = row.repeats_b = 1;
+  row.speed = {decide_exact(row.a, row.b, settings.instructions_tolerance), std::nullopt};
+  return row;
+}
+
+// One row per metric measured in both runs, in A's order, then the instruction counts.
+void append_rows(const RunPair& pair, const CompareSettings& settings, std::vector<CompareRow>& rows) {
+  const std::vector<MetricSamples> metrics_b = metrics_of(pair.b, pair.with_phases);
+  for (const MetricSamples& a : metrics_of(pair.a, pair.with_phases)) {
+    const auto b = std::ranges::find(metrics_b, a.name, &MetricSamples::name);
+    if (b == metrics_b.end()) continue;
+    if (auto row = speed_row(pair, a, *b, settings)) rows.push_back(std::move(*row));
+  }
+  if (auto row = instructions_row(pair, settings)) rows.push_back(std::move(*row));
+}
+
+bool counted_on_one_side(const RunPair& pair) {
+  return pair.a.instruction_count.has_value() != pair.b.instruction_count.has_value();
+}
+
+// Said once per comparison, however many pairs it concerns.
+void warn_on_one_sided_counts(int pairs, const std::string& label, std::vector<std::string>& warnings) {
+  if (pairs == 0) return;
+  warnings.push_back(label + ": " + std::to_string(pairs) + (pairs == 1 ? " pair" : " pairs") +
+                     " of runs with instruction counts on one side only, so no instructions_per_step row for " +
+                     (pairs == 1 ? "it" : "them") + "; run both with --counter instructions");
+}
+
+std::string primary_metric_of(const ResultSet& results, const RunRecord& run) {
+  const auto scene = std::ranges::find(results.scenes, run.scene_hash, &SceneRecord::hash);
+  return scene == results.scenes.end() ? std::string("penetration") : scene->primary_metric;
+}
+
+std::string describe(const RunRecord& run) {
+  return run.engine + " on " + run.scene + " (" + std::to_string(run.bodies) + " bodies)";
+}
+
+// --- A/B ------------------------------------------------------------------------------------------
+
+using RunKey = std::tuple<std::string, std::string, int>;  // engine, scene, bodies
+
+std::map<RunKey, const RunRecord*> runs_by_key(const ResultSet& results, const std::string& label) {
+  std::map<RunKey, const RunRecord*> runs;
+  for (const RunRecord& run : results.runs)
+    if (!runs.emplace(RunKey{run.engine, run.scene, run.bodies}, &run).second)
+      throw InputError(label + ": " + describe(run) + " appears twice; compare takes one run of each");
+  return runs;
+}
+
+// Intermediate hashes compare only when they were taken after the same steps.
+bool same_physics(const RunRecord& a, const RunRecord& b) {
+  return a.final_state_hash == b.final_state_hash && (a.hash_every != b.hash_every || a.state_hashes == b.state_hashes);
+}
+
+void warn_on_provenance(const Provenance& a, const Provenance& b, const std::string& pair_label,
+                        std::vector<std::string>& warnings) {
+  const std::pair<const char*, std::string Provenance::*> facts[] = {{"cpu_model", &Provenance::cpu_model},
+                                                                     {"hostname", &Provenance::hostname},
+                                                                     {"compiler", &Provenance::compiler},
+                                                                     {"build_flags", &Provenance::build_flags}};
+  for (const auto& [name, field] : facts)
+    if (a.*field != b.*field)
+      warnings.push_back(pair_label + " differ in " + name + " (\"" + a.*field + "\" vs \"" + b.*field +
+                         "\"); pass --force to compare without this warning");
+}
+
+// Paired rounds whose faster and slower halves disagree by more than the noise band: the machine
+// ran in two states that change the builds unequally, so the verdict depends on which it was in.
+void warn_on_state_dependent_ratios(CompareReport& report) {
+  for (const CompareRow& row : report.rows) {
+    if (row.metric != step_metric || !row.ratios_by_round_speed || row.repeats_a < min_rounds_to_split) continue;
+    const RatiosByRoundSpeed& halves = *row.ratios_by_round_speed;
+    if (std::abs(halves.slowest_half - halves.fastest_half) <= report.settings.rules.noise) continue;
+    report.warnings.push_back(row.engine + " " + row.scene + " " + std::to_string(row.bodies) + ": B/A is " +
+                              formatted("%.3f", halves.fastest_half) + " over the half of the rounds that ran fastest and " +
+                              formatted("%.3f", halves.slowest_half) +
+                              " over the slowest half; the change may depend on the machine's state (a busy "
+                              "neighbouring hardware thread, say): pin with taskset and read the per-round ratios "
+                              "(harness/README, ab)");
+  }
+}
+
+// A/B, by both commands: `rounds_paired` when A and B are the two builds of one `ab` file.
+CompareReport compare_ab(const ResultSet& a, const std::string& a_label, const ResultSet& b, const std::string& b_label,
+                         const CompareSettings& settings, bool rounds_paired) {
+  const std::string pair_label = a_label + " and " + b_label;
+  CompareReport report{.cross_engine = false, .settings = settings, .rows = {}, .warnings = {}};
+  if (!settings.force) warn_on_provenance(a.provenance, b.provenance, pair_label, report.warnings);
+  const std::map<RunKey, const RunRecord*> runs_a = runs_by_key(a, a_label);
+  const std::map<RunKey, const RunRecord*> runs_b = runs_by_key(b, b_label);
+  int one_sided_counts = 0;
+  for (const RunRecord& run_a : a.runs) {
+    const auto match = runs_b.find(RunKey{run_a.engine, run_a.scene, run_a.bodies});
+    if (match == runs_b.end()) {
+      report.warnings.push_back(describe(run_a) + " is only in " + a_label);
+      continue;
+    }
+    const RunRecord& run_b = *match->second;
+    if (run_a.scene_hash != run_b.scene_hash && !settings.force)
+      throw InputError(pair_label + ": " + describe(run_a) + " is a different scene in each (scene hash " +
+                       run_a.scene_hash + " vs " + run_b.scene_hash + "); pass --force to compare them anyway");
+    const RunPair pair{run_a, run_b, primary_metric_of(a, run_a), same_physics(run_a, run_b), true, rounds_paired};
+    one_sided_counts += counted_on_one_side(pair) ? 1 : 0;
+    append_rows(pair, settings, report.rows);
+  }
+  warn_on_one_sided_counts(one_sided_counts, pair_label, report.warnings);
+  warn_on_state_dependent_ratios(report);
+  for (const auto& [key, run_b] : runs_b)
+    if (!runs_a.contains(key)) report.warnings.push_back(describe(*run_b) + " is only in " + b_label);
+  if (report.rows.empty())
+    throw InputError(pair_label + ": no engine, scene and size measured in both; nothing to compare");
+  return report;
+}
+
+// --- verdict counts -------------------------------------------------------------------------------
+
+bool gates(const CompareReport& report, const CompareRow& row) {
+  return !report.cross_engine && (row.metric == step_metric || row.metric == instructions_metric);
+}
+
+bool is_regression(const CompareReport& report, const CompareRow& row) {
+  return gates(report, row) && (row.speed.speed == Speed::slower || row.accuracy_change() == AccuracyChange::worse);
+}
+
+std::string counted(int count, const std::string& singular, const std::string& plural) {
+  return std::to_string(count) + " " + (count == 1 ? singular : plural);
+}
+
+// --- rendering ------------------------------------------------------------------------------------
+
+std::string value_text(const std::string& metric, double value) {
+  if (metric == "cycles_per_step" || metric == instructions_metric) return formatted("%.0f", value);
+  return formatted("%.4g ms", value);
+}
+
+std::string p_text(const std::optional<RankTest>& test) {
+  if (!test) return "-";
+  return test->p_value < 0.001 ? std::string("<0.001") : formatted("%.3f", test->p_value);
+}
+
+std::string verdict_text(const CompareRow& row) {
+  std::string text = row.verdict();
+  if (row.speed.speed != Speed::inconclusive) return text;
+  return text + (row.speed.repeats_needed ? " (~" + std::to_string(*row.speed.repeats_needed) + " repeats would decide)"
+                                          : " (more repeats would not decide)");
+}
+
+std::string physics_text(bool same) { return same ? "same physics" : "physics changed"; }
+
+std::string to_string(AccuracyChange change) {
+  switch (change) {
+    case AccuracyChange::same: return "same";
+    case AccuracyChange::better: return "better";
+    case AccuracyChange::worse: return "worse";
+    case AccuracyChange::changed: return "changed";
+  }
+  return "same";
+}
+
+// Penetration in millimetres (it is small), displacement in metres, counts as they are, then
+// the change when there is one.
+std::string delta_text(const AccuracyDelta& delta) {
+  const auto [format, scale] = delta.name == "max_penetration"    ? std::pair{"%.3f", 1e3}
+                               : delta.name == "max_displacement" ? std::pair{"%.4f", 1.0}
+                                                                  : std::pair{"%.0f", 1.0};
+  std::string text = formatted(format, delta.a * scale) + " -> " + formatted(format, delta.b * scale);
+  if (delta.change != AccuracyChange::same) text += " " + to_string(delta.change);
+  return text;
+}
+
+using Table = std::vector<std::vector<std::string>>;
+
+// Physics comes before the verdict, so that an empty cell never ends a line; it is said once
+// per pair of runs, on the step-time row.
+Table speed_table(const CompareReport& report, bool emphasise_regressions) {
+  const bool ab = !report.cross_engine;
+  std::vector<std::string> header = {"engine"};
+  if (!ab) header.emplace_back("against");
+  header.insert(header.end(), {"scene", "bodies", "metric", "A", "B", "B/A", "95% CI", "p"});
+  if (ab) header.emplace_back("physics");
+  header.emplace_back("verdict");
+  Table table = {header};
+  for (const CompareRow& row : report.rows) {
+    std::vector<std::string> cells = {row.engine};
+    if (!ab) cells.push_back(row.against);
+    cells.insert(cells.end(), {row.scene, std::to_string(row.bodies), row.metric, value_text(row.metric, row.a),
+                               value_text(row.metric, row.b), formatted("%.3f", row.estimate.ratio),
+                               formatted("[%.3f, ", row.estimate.ci.low) + formatted("%.3f]", row.estimate.ci.high),
+                               p_text(row.test)});
+    if (ab) cells.push_back(row.metric == step_metric ? physics_text(row.same_physics.value_or(false)) : "");
+    const bool emphasised = emphasise_regressions && is_regression(report, row);
+    cells.push_back(emphasised ? "**" + verdict_text(row) + "**" : verdict_text(row));
+    table.push_back(std::move(cells));
+  }
+  return table;
+}
+
+Table accuracy_table(const CompareReport& report) {
+  Table table = {{"engine", "scene", "bodies", "primary metric", "max penetration mm", "max displacement m", "escaped",
+                  "nan", "accuracy"}};
+  if (report.cross_engine) table[0].insert(table[0].begin() + 1, "against");
+  for (const CompareRow& row : report.rows) {
+    if (row.accuracy.empty()) continue;
+    std::vector<std::string> cells = {row.engine, row.scene, std::to_string(row.bodies), row.primary_metric};
+    for (const AccuracyDelta& delta : row.accuracy) cells.push_back(delta_text(delta));
+    cells.push_back(to_string(row.accuracy_change()));
+    if (report.cross_engine) cells.insert(cells.begin() + 1, row.against);
+    table.push_back(std::move(cells));
+  }
+  return table;
+}
+
+std::string method_note(const CompareReport& report) {
+  const CompareSettings& settings = report.settings;
+  const bool counted = std::ranges::find(report.rows, instructions_metric, &CompareRow::metric) != report.rows.end();
+  const std::string instructions_note =
+      counted ? " instructions_per_step: exact counts of the step loop under callgrind; a change counts beyond +-" +
+                    formatted("%g%%", 100.0 * settings.instructions_tolerance) + "."
+              : "";
+  const bool paired = std::ranges::any_of(report.rows, &CompareRow::rounds_paired);
+  const std::string estimator =
+      paired ? "B/A: the median of the ratios b/a of A's and B's rounds run back to back, with a 95% percentile "
+               "bootstrap interval resampling those pairs of rounds ("
+             : "B/A: their ratio, with a 95% percentile bootstrap interval resampling A's and B's repeats independently (";
+  return "a, b: median over repeats of each repeat's median step; " + estimator +
+         std::to_string(bootstrap_resamples) + " resamples, fixed seed); a change counts when p < " +
+         formatted("%g", settings.rules.alpha) + " and the interval clears the noise band +-" +
+         formatted("%g%%", 100.0 * settings.rules.noise) + ". Accuracy tolerance " +
+         formatted("%g%%", 100.0 * settings.accuracy_tolerance) + " + " + formatted("%g mm", accuracy_floor_m * 1e3) +
+         "; penetration, escaped and nan are errors everywhere, displacement where it is the primary metric." +
+         instructions_note;
+}
+
+std::string markdown_table(const Table& table) {
+  std::string text;
+  for (std::size_t line = 0; line < table.size(); ++line) {
+    text += "|";
+    for (const std::string& cell : table[line]) text += " " + cell + " |";
+    text += "\n";
+    if (line == 0) {
+      text += "|";
+      for (std::size_t column = 0; column < table[0].size(); ++column) text += "---|";
+      text += "\n";
+    }
+  }
+  return text;
+}
+
+nlohmann::ordered_json accuracy_json(const CompareRow& row) {
+  nlohmann::ordered_json figures = nlohmann::ordered_json::object();
+  for (const AccuracyDelta& delta : row.accuracy)
+    figures[delta.name] = {{"a", delta.a}, {"b", delta.b}, {"change", to_string(delta.change)}};
+  return {{"primary_metric", row.primary_metric}, {"change", to_string(row.accuracy_change())}, {"figures", figures}};
+}
+
+nlohmann::ordered_json row_json(const CompareReport& report, const CompareRow& row) {
+  nlohmann::ordered_json json = {
+      {"engine", row.engine},
+      {"against", row.against},
+      {"scene", row.scene},
+      {"bodies", row.bodies},
+      {"metric", row.metric},
+      {"a", row.a},
+      {"b", row.b},
+      {"ratio", row.estimate.ratio},
+      {"ci_low", row.estimate.ci.low},
+      {"ci_high", row.estimate.ci.high},
+      {"p_value", nullptr},
+      {"test", row.test_name},
+      {"repeats_a", row.repeats_a},
+      {"repeats_b", row.repeats_b},
+      {"verdict", row.verdict()},
+      {"speed", to_string(row.speed.speed)},
+      {"repeats_needed", nullptr},
+      {"physics", nullptr},
+      {"regression", is_regression(report, row)},
+  };
+  if (row.test) json["p_value"] = row.test->p_value;
+  if (row.speed.repeats_needed) json["repeats_needed"] = *row.speed.repeats_needed;
+  if (row.same_physics) json["physics"] = *row.same_physics ? "same" : "changed";
+  if (!row.accuracy.empty()) json["accuracy"] = accuracy_json(row);
+  return json;
+}
+
+// --- the command ----------------------------------------------------------------------------------
+
+struct CompareOptions {
+  std::string a_path;
+  std::string b_path;
+  CLI::Option* b_option = nullptr;
+  std::string baseline;
+  CompareSettings settings;
+  CompareOutput output;
+};
+
+ExitCode compare_command(const CompareOptions& options) {
+  const std::optional<std::string> b_path =
+      options.b_option->count() > 0 ? std::optional<std::string>(options.b_path) : std::nullopt;
+  const CompareReport report = compare_files(options.a_path, b_path, options.baseline, options.settings);
+  return print_compare_report(report, options.output);
+}
+
+}  // namespace
+
+AccuracyChange CompareRow::accuracy_change() const {
+  const auto any = [&](AccuracyChange change) { return std::ranges::find(accuracy, change, &AccuracyDelta::change) != accuracy.end(); };
+  if (any(AccuracyChange::worse)) return AccuracyChange::worse;
+  if (any(AccuracyChange::better)) return AccuracyChange::better;
+  return AccuracyChange::same;
+}
+
+std::string CompareRow::verdict() const {
+  const AccuracyChange change = accuracy_change();
+  const char* qualifier = change == AccuracyChange::worse ? ", less accurate"
+                          : change == AccuracyChange::better ? ", more accurate"
+                                                             : "";
+  return to_string(speed.speed) + qualifier;
+}
+
+int CompareReport::count_regressions() const {
+  return static_cast<int>(std::ranges::count_if(rows, [&](const CompareRow& row) { return is_regression(*this, row); }));
+}
+
+ExitCode CompareReport::exit_code() const {
+  if (count_regressions() > 0) return exit_regression;
+  const bool undecided = std::ranges::any_of(
+      rows, [&](const CompareRow& row) { return gates(*this, row) && row.speed.speed == Speed::inconclusive; });
+  return undecided ? exit_inconclusive : exit_ok;
+}
+
+// A/B: each gating row falls in the first of regression, inconclusive, improvement, unchanged.
+// Cross-engine: the step-time verdicts of engine against baseline.
+std::string CompareReport::headline() const {
+  std::map<std::string, int> counts;
+  for (const CompareRow& row : rows) {
+    if (cross_engine ? row.metric != step_metric : !gates(*this, row)) continue;
+    if (cross_engine)
+      ++counts[to_string(row.speed.speed)];
+    else if (is_regression(*this, row))
+      ++counts["regression"];
+    else if (row.speed.speed == Speed::inconclusive)
+      ++counts["inconclusive"];
+    else if (row.speed.speed == Speed::faster || row.accuracy_change() == AccuracyChange::better)
+      ++counts["improvement"];
+    else
+      ++counts["unchanged"];
+  }
+  if (cross_engine)
+    return std::to_string(counts["faster"]) + " faster, " + std::to_string(counts["slower"]) + " slower, " +
+           std::to_string(counts["no change"]) + " no change, " + std::to_string(counts["inconclusive"]) +
+           " inconclusive (ms/step, engine against baseline)";
+  return counted(counts["regression"], "regression", "regressions") + ", " +
+         counted(counts["improvement"], "improvement", "improvements") + ", " + std::to_string(counts["unchanged"]) +
+         " unchanged, " + std::to_string(counts["inconclusive"]) + " inconclusive";
+}
+
+CompareReport compare_results(const ResultSet& a, const std::string& a_label, const ResultSet& b,
+                              const std::string& b_label, const CompareSettings& settings) {
+  return compare_ab(a, a_label, b, b_label, settings, false);
+}
+
+CompareReport compare_variants(const VariantResults& variants, const CompareSettings& settings) {
+  return compare_ab(variants.a, "A", variants.b, "B", settings, true);
+}
+
+CompareReport compare_engines(const ResultSet& results, const std::string& label, const std::string& baseline,
+                              const CompareSettings& settings) {
+  CompareReport report{.cross_engine = true, .settings = settings, .rows = {}, .warnings = {}};
+  runs_by_key(results, label);  // rejects a file that holds two runs of one engine, scene and size
+  const std::string subject = baseline.empty() ? std::string("fx2d") : baseline;
+  const auto same_scene = [](const RunRecord& x, const RunRecord& y) {
+    return x.scene == y.scene && x.bodies == y.bodies && x.scene_hash == y.scene_hash;
+  };
+  int one_sided_counts = 0;
+  for (const RunRecord& subject_run : results.runs) {
+    if (subject_run.engine != subject) continue;
+    for (const RunRecord& other : results.runs) {
+      if (other.engine == subject || !same_scene(other, subject_run)) continue;
+      const RunRecord& a = baseline.empty() ? other : subject_run;
+      const RunRecord& b = baseline.empty() ? subject_run : other;
+      const RunPair pair{a, b, primary_metric_of(results, a), std::nullopt, false};
+      one_sided_counts += counted_on_one_side(pair) ? 1 : 0;
+      append_rows(pair, settings, report.rows);
+    }
+  }
+  warn_on_one_sided_counts(one_sided_counts, label, report.warnings);
+  if (report.rows.empty())
+    throw InputError(label + ": no scene has a " + subject + " run and a run of another engine; nothing to compare");
+  return report;
+}
+
+CompareReport compare_files(const std::string& a_path, const std::optional<std::string>& b_path,
+                            const std::string& baseline, const CompareSettings& settings) {
+  const ResultSet a = read_results_h5(a_path);
+  if (const auto ab = split_variants(a); ab && !b_path) return compare_variants(*ab, settings);
+  if (!b_path) return compare_engines(a, a_path, baseline, settings);
+  return compare_results(a, a_path, read_results_h5(*b_path), *b_path, settings);
+}
+
+nlohmann::ordered_json compare_json(const CompareReport& report) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const CompareRow& row : report.rows) rows.push_back(row_json(report, row));
+  const CompareSettings& settings = report.settings;
+  return {
+      {"schema", compare_schema},
+      {"mode", report.cross_engine ? "cross-engine" : "ab"},
+      {"noise", settings.rules.noise},
+      {"alpha", settings.rules.alpha},
+      {"accuracy_tolerance", settings.accuracy_tolerance},
+      {"instructions_tolerance", settings.instructions_tolerance},
+      {"bootstrap", {{"resamples", bootstrap_resamples}, {"seed", bootstrap_seed}, {"confidence", confidence_level}}},
+      {"headline", report.headline()},
+      {"rows", rows},
+      {"regressions", report.count_regressions()},
+  };
+}
+
+std::string compare_markdown(const CompareReport& report) {
+  return "**fx2d-bench compare**: " + report.headline() + "\n\n" + markdown_table(speed_table(report, true)) + "\n" +
+         markdown_table(accuracy_table(report)) + "\n<sub>" + method_note(report) + "</sub>\n";
+}
+
+std::string compare_table(const CompareReport& report) {
+  return report.headline() + "\n\n" + aligned_columns(speed_table(report, false)) + "\n" +
+         aligned_columns(accuracy_table(report)) + "\n" + method_note(report) + "\n";
+}
+
+ExitCode print_compare_report(const CompareReport& report, const CompareOutput& output) {
+  for (const std::string& warning : report.warnings) std::cerr << "fx2d-bench: warning: " << warning << '\n';
+  if (output.json)
+    std::cout << compare_json(report).dump(2) << '\n';
+  else if (output.markdown)
+    std::cout << compare_markdown(report);
+  else
+    std::cout << compare_table(report);
+  std::cout.flush();
+  return report.exit_code();
+}
+
+void register_compare(CLI::App& app, int& exit_status) {
+  auto options = std::make_shared<CompareOptions>();
+  CLI::App* compare = app.add_subcommand(
+      "compare", "Judge B against A (speed with confidence intervals, accuracy, physics), or the engines within A");
+  compare->add_option("A", options->a_path, "Result file of the reference (fx2d-bench.results/1)")->required();
+  options->b_option =
+      compare->add_option("B", options->b_path, "Result file to judge against A; without it, the engines within A");
+  std::vector<std::string> engines;
+  for (const EngineInfo& engine : engine_registry()) engines.push_back(engine.name);
+  compare
+      ->add_option("--baseline", options->baseline,
+                   "Within A alone: every other engine against this one (default: fx2d against the others)")
+      ->check(CLI::IsMember(engines))
+      ->excludes(options->b_option);
+  VerdictRules& rules = options->settings.rules;
+  compare->add_option("--noise", rules.noise, "Ratios within 1 +- noise count as no change")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
+  compare->add_option("--alpha", rules.alpha, "Significance level of the rank test")
+      ->check(CLI::Range(1e-9, 0.5))
+      ->capture_default_str();
+  compare
+      ->add_option("--accuracy-tolerance", options->settings.accuracy_tolerance,
+                   "Relative change in an accuracy figure that counts (plus 0.1 mm for lengths)")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  compare
+      ->add_option("--instructions-tolerance", options->settings.instructions_tolerance,
+                   "Relative change in instructions per step that counts (runs with --counter instructions)")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
+  CLI::Option* json = compare->add_flag("--json", options->output.json, "Print one JSON object (fx2d-bench.compare/1)");
+  compare->add_flag("--markdown", options->output.markdown, "Print a Markdown report for a pull-request comment")->excludes(json);
+  compare->add_flag("--force", options->settings.force,
+                    "Compare runs of different scenes, and do not warn when machine, compiler or flags differ");
+  compare->callback([options, &exit_status] { exit_status = compare_command(*options); });
+}
+
+}  // namespace fxbench
