@@ -1,41 +1,26 @@
-// `fx2d-bench compare A.h5 [B.h5]`: is B faster, slower or less accurate than A, and may CI
-// trust the answer (compare.h states the invariants, statistics.h the method).
+// `fx2d-bench compare A.h5 [B.h5]`'s judgement: is B faster, slower or less accurate than A, and
+// may CI trust the answer (compare.h states the invariants, statistics.h the method).
 //
 // Reads top to bottom: the samples each row compares, one row per metric of a pair of runs with
 // the accuracy deltas beside the step time, the exact instructions row where both runs were
 // counted (--counter instructions), the A/B pairing of runs by engine, scene and size
-// (with its refusals and warnings), the cross-engine pairing within one file, the verdict
-// counts, the three renderers, and the command line.
+// (with its refusals and warnings), the verdict counts, and the cross-engine pairing within one
+// file. The renderers are in format/compare_format.cpp, the command line in commands/compare.cpp.
 #include "analysis/compare.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <iostream>
 #include <map>
-#include <memory>
 #include <tuple>
 
 #include "analysis/summary.h"
-#include "commands/commands.h"
-#include "engines/engine.h"
-#include "format/text_table.h"
-#include "measure/interleave.h"
-#include "storage/results_h5.h"
+#include "common/number_text.h"
 
 namespace fxbench {
 namespace {
 
-constexpr const char* step_metric = "ms_per_step";
-constexpr const char* instructions_metric = "instructions_per_step";
 // Fewer pairs of rounds than this are too few to split into halves that say anything.
 constexpr int min_rounds_to_split = 8;
-
-std::string formatted(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
-}
 
 // One metric of one run, repeat-major [repeats x steps] like RunRecord's own series.
 struct MetricSamples {
@@ -291,34 +276,11 @@ bool gates(const CompareReport& report, const CompareRow& row) {
   return !report.cross_engine && (row.metric == step_metric || row.metric == instructions_metric);
 }
 
-bool is_regression(const CompareReport& report, const CompareRow& row) {
-  return gates(report, row) && (row.speed.speed == Speed::slower || row.accuracy_change() == AccuracyChange::worse);
-}
-
 std::string counted(int count, const std::string& singular, const std::string& plural) {
   return std::to_string(count) + " " + (count == 1 ? singular : plural);
 }
 
-// --- rendering ------------------------------------------------------------------------------------
-
-std::string value_text(const std::string& metric, double value) {
-  if (metric == "cycles_per_step" || metric == instructions_metric) return formatted("%.0f", value);
-  return formatted("%.4g ms", value);
-}
-
-std::string p_text(const std::optional<RankTest>& test) {
-  if (!test) return "-";
-  return test->p_value < 0.001 ? std::string("<0.001") : formatted("%.3f", test->p_value);
-}
-
-std::string verdict_text(const CompareRow& row) {
-  std::string text = row.verdict();
-  if (row.speed.speed != Speed::inconclusive) return text;
-  return text + (row.speed.repeats_needed ? " (~" + std::to_string(*row.speed.repeats_needed) + " repeats would decide)"
-                                          : " (more repeats would not decide)");
-}
-
-std::string physics_text(bool same) { return same ? "same physics" : "physics changed"; }
+}  // namespace
 
 std::string to_string(AccuracyChange change) {
   switch (change) {
@@ -330,150 +292,9 @@ std::string to_string(AccuracyChange change) {
   return "same";
 }
 
-// Penetration in millimetres (it is small), displacement in metres, counts as they are, then
-// the change when there is one.
-std::string delta_text(const AccuracyDelta& delta) {
-  const auto [format, scale] = delta.name == "max_penetration"    ? std::pair{"%.3f", 1e3}
-                               : delta.name == "max_displacement" ? std::pair{"%.4f", 1.0}
-                                                                  : std::pair{"%.0f", 1.0};
-  std::string text = formatted(format, delta.a * scale) + " -> " + formatted(format, delta.b * scale);
-  if (delta.change != AccuracyChange::same) text += " " + to_string(delta.change);
-  return text;
+bool CompareReport::is_regression(const CompareRow& row) const {
+  return gates(*this, row) && (row.speed.speed == Speed::slower || row.accuracy_change() == AccuracyChange::worse);
 }
-
-using Table = std::vector<std::vector<std::string>>;
-
-// Physics comes before the verdict, so that an empty cell never ends a line; it is said once
-// per pair of runs, on the step-time row.
-Table speed_table(const CompareReport& report, bool emphasise_regressions) {
-  const bool ab = !report.cross_engine;
-  std::vector<std::string> header = {"engine"};
-  if (!ab) header.emplace_back("against");
-  header.insert(header.end(), {"scene", "bodies", "metric", "A", "B", "B/A", "95% CI", "p"});
-  if (ab) header.emplace_back("physics");
-  header.emplace_back("verdict");
-  Table table = {header};
-  for (const CompareRow& row : report.rows) {
-    std::vector<std::string> cells = {row.engine};
-    if (!ab) cells.push_back(row.against);
-    cells.insert(cells.end(), {row.scene, std::to_string(row.bodies), row.metric, value_text(row.metric, row.a),
-                               value_text(row.metric, row.b), formatted("%.3f", row.estimate.ratio),
-                               formatted("[%.3f, ", row.estimate.ci.low) + formatted("%.3f]", row.estimate.ci.high),
-                               p_text(row.test)});
-    if (ab) cells.push_back(row.metric == step_metric ? physics_text(row.same_physics.value_or(false)) : "");
-    const bool emphasised = emphasise_regressions && is_regression(report, row);
-    cells.push_back(emphasised ? "**" + verdict_text(row) + "**" : verdict_text(row));
-    table.push_back(std::move(cells));
-  }
-  return table;
-}
-
-Table accuracy_table(const CompareReport& report) {
-  Table table = {{"engine", "scene", "bodies", "primary metric", "max penetration mm", "max displacement m", "escaped",
-                  "nan", "accuracy"}};
-  if (report.cross_engine) table[0].insert(table[0].begin() + 1, "against");
-  for (const CompareRow& row : report.rows) {
-    if (row.accuracy.empty()) continue;
-    std::vector<std::string> cells = {row.engine, row.scene, std::to_string(row.bodies), row.primary_metric};
-    for (const AccuracyDelta& delta : row.accuracy) cells.push_back(delta_text(delta));
-    cells.push_back(to_string(row.accuracy_change()));
-    if (report.cross_engine) cells.insert(cells.begin() + 1, row.against);
-    table.push_back(std::move(cells));
-  }
-  return table;
-}
-
-std::string method_note(const CompareReport& report) {
-  const CompareSettings& settings = report.settings;
-  const bool counted = std::ranges::find(report.rows, instructions_metric, &CompareRow::metric) != report.rows.end();
-  const std::string instructions_note =
-      counted ? " instructions_per_step: exact counts of the step loop under callgrind; a change counts beyond +-" +
-                    formatted("%g%%", 100.0 * settings.instructions_tolerance) + "."
-              : "";
-  const bool paired = std::ranges::any_of(report.rows, &CompareRow::rounds_paired);
-  const std::string estimator =
-      paired ? "B/A: the median of the ratios b/a of A's and B's rounds run back to back, with a 95% percentile "
-               "bootstrap interval resampling those pairs of rounds ("
-             : "B/A: their ratio, with a 95% percentile bootstrap interval resampling A's and B's repeats independently (";
-  return "a, b: median over repeats of each repeat's median step; " + estimator +
-         std::to_string(bootstrap_resamples) + " resamples, fixed seed); a change counts when p < " +
-         formatted("%g", settings.rules.alpha) + " and the interval clears the noise band +-" +
-         formatted("%g%%", 100.0 * settings.rules.noise) + ". Accuracy tolerance " +
-         formatted("%g%%", 100.0 * settings.accuracy_tolerance) + " + " + formatted("%g mm", accuracy_floor_m * 1e3) +
-         "; penetration, escaped and nan are errors everywhere, displacement where it is the primary metric." +
-         instructions_note;
-}
-
-std::string markdown_table(const Table& table) {
-  std::string text;
-  for (std::size_t line = 0; line < table.size(); ++line) {
-    text += "|";
-    for (const std::string& cell : table[line]) text += " " + cell + " |";
-    text += "\n";
-    if (line == 0) {
-      text += "|";
-      for (std::size_t column = 0; column < table[0].size(); ++column) text += "---|";
-      text += "\n";
-    }
-  }
-  return text;
-}
-
-nlohmann::ordered_json accuracy_json(const CompareRow& row) {
-  nlohmann::ordered_json figures = nlohmann::ordered_json::object();
-  for (const AccuracyDelta& delta : row.accuracy)
-    figures[delta.name] = {{"a", delta.a}, {"b", delta.b}, {"change", to_string(delta.change)}};
-  return {{"primary_metric", row.primary_metric}, {"change", to_string(row.accuracy_change())}, {"figures", figures}};
-}
-
-nlohmann::ordered_json row_json(const CompareReport& report, const CompareRow& row) {
-  nlohmann::ordered_json json = {
-      {"engine", row.engine},
-      {"against", row.against},
-      {"scene", row.scene},
-      {"bodies", row.bodies},
-      {"metric", row.metric},
-      {"a", row.a},
-      {"b", row.b},
-      {"ratio", row.estimate.ratio},
-      {"ci_low", row.estimate.ci.low},
-      {"ci_high", row.estimate.ci.high},
-      {"p_value", nullptr},
-      {"test", row.test_name},
-      {"repeats_a", row.repeats_a},
-      {"repeats_b", row.repeats_b},
-      {"verdict", row.verdict()},
-      {"speed", to_string(row.speed.speed)},
-      {"repeats_needed", nullptr},
-      {"physics", nullptr},
-      {"regression", is_regression(report, row)},
-  };
-  if (row.test) json["p_value"] = row.test->p_value;
-  if (row.speed.repeats_needed) json["repeats_needed"] = *row.speed.repeats_needed;
-  if (row.same_physics) json["physics"] = *row.same_physics ? "same" : "changed";
-  if (!row.accuracy.empty()) json["accuracy"] = accuracy_json(row);
-  return json;
-}
-
-// --- the command ----------------------------------------------------------------------------------
-
-struct CompareOptions {
-  std::string a_path;
-  std::string b_path;
-  CLI::Option* b_option = nullptr;
-  std::string baseline;
-  CompareSettings settings;
-  CompareOutput output;
-};
-
-ExitCode compare_command(const CompareOptions& options) {
-  const std::optional<std::string> b_path =
-      options.b_option->count() > 0 ? std::optional<std::string>(options.b_path) : std::nullopt;
-  const CompareReport report = compare_files(options.a_path, b_path, options.baseline, options.settings);
-  return print_compare_report(report, options.output);
-}
-
-}  // namespace
 
 AccuracyChange CompareRow::accuracy_change() const {
   const auto any = [&](AccuracyChange change) { return std::ranges::find(accuracy, change, &AccuracyDelta::change) != accuracy.end(); };
@@ -491,7 +312,7 @@ std::string CompareRow::verdict() const {
 }
 
 int CompareReport::count_regressions() const {
-  return static_cast<int>(std::ranges::count_if(rows, [&](const CompareRow& row) { return is_regression(*this, row); }));
+  return static_cast<int>(std::ranges::count_if(rows, [&](const CompareRow& row) { return is_regression(row); }));
 }
 
 ExitCode CompareReport::exit_code() const {
@@ -509,7 +330,7 @@ std::string CompareReport::headline() const {
     if (cross_engine ? row.metric != step_metric : !gates(*this, row)) continue;
     if (cross_engine)
       ++counts[to_string(row.speed.speed)];
-    else if (is_regression(*this, row))
+    else if (is_regression(row))
       ++counts["regression"];
     else if (row.speed.speed == Speed::inconclusive)
       ++counts["inconclusive"];
@@ -562,90 +383,5 @@ CompareReport compare_engines(const ResultSet& results, const std::string& label
   return report;
 }
 
-CompareReport compare_files(const std::string& a_path, const std::optional<std::string>& b_path,
-                            const std::string& baseline, const CompareSettings& settings) {
-  const ResultSet a = read_results_h5(a_path);
-  if (const auto ab = split_variants(a); ab && !b_path) return compare_variants(*ab, settings);
-  if (!b_path) return compare_engines(a, a_path, baseline, settings);
-  return compare_results(a, a_path, read_results_h5(*b_path), *b_path, settings);
-}
-
-nlohmann::ordered_json compare_json(const CompareReport& report) {
-  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  for (const CompareRow& row : report.rows) rows.push_back(row_json(report, row));
-  const CompareSettings& settings = report.settings;
-  return {
-      {"schema", compare_schema},
-      {"mode", report.cross_engine ? "cross-engine" : "ab"},
-      {"noise", settings.rules.noise},
-      {"alpha", settings.rules.alpha},
-      {"accuracy_tolerance", settings.accuracy_tolerance},
-      {"instructions_tolerance", settings.instructions_tolerance},
-      {"bootstrap", {{"resamples", bootstrap_resamples}, {"seed", bootstrap_seed}, {"confidence", confidence_level}}},
-      {"headline", report.headline()},
-      {"rows", rows},
-      {"regressions", report.count_regressions()},
-  };
-}
-
-std::string compare_markdown(const CompareReport& report) {
-  return "**fx2d-bench compare**: " + report.headline() + "\n\n" + markdown_table(speed_table(report, true)) + "\n" +
-         markdown_table(accuracy_table(report)) + "\n<sub>" + method_note(report) + "</sub>\n";
-}
-
-std::string compare_table(const CompareReport& report) {
-  return report.headline() + "\n\n" + aligned_columns(speed_table(report, false)) + "\n" +
-         aligned_columns(accuracy_table(report)) + "\n" + method_note(report) + "\n";
-}
-
-ExitCode print_compare_report(const CompareReport& report, const CompareOutput& output) {
-  for (const std::string& warning : report.warnings) std::cerr << "fx2d-bench: warning: " << warning << '\n';
-  if (output.json)
-    std::cout << compare_json(report).dump(2) << '\n';
-  else if (output.markdown)
-    std::cout << compare_markdown(report);
-  else
-    std::cout << compare_table(report);
-  std::cout.flush();
-  return report.exit_code();
-}
-
-void register_compare(CLI::App& app, int& exit_status) {
-  auto options = std::make_shared<CompareOptions>();
-  CLI::App* compare = app.add_subcommand(
-      "compare", "Judge B against A (speed with confidence intervals, accuracy, physics), or the engines within A");
-  compare->add_option("A", options->a_path, "Result file of the reference (fx2d-bench.results/1)")->required();
-  options->b_option =
-      compare->add_option("B", options->b_path, "Result file to judge against A; without it, the engines within A");
-  std::vector<std::string> engines;
-  for (const EngineInfo& engine : engine_registry()) engines.push_back(engine.name);
-  compare
-      ->add_option("--baseline", options->baseline,
-                   "Within A alone: every other engine against this one (default: fx2d against the others)")
-      ->check(CLI::IsMember(engines))
-      ->excludes(options->b_option);
-  VerdictRules& rules = options->settings.rules;
-  compare->add_option("--noise", rules.noise, "Ratios within 1 +- noise count as no change")
-      ->check(CLI::Range(0.0, 0.5))
-      ->capture_default_str();
-  compare->add_option("--alpha", rules.alpha, "Significance level of the rank test")
-      ->check(CLI::Range(1e-9, 0.5))
-      ->capture_default_str();
-  compare
-      ->add_option("--accuracy-tolerance", options->settings.accuracy_tolerance,
-                   "Relative change in an accuracy figure that counts (plus 0.1 mm for lengths)")
-      ->check(CLI::Range(0.0, 10.0))
-      ->capture_default_str();
-  compare
-      ->add_option("--instructions-tolerance", options->settings.instructions_tolerance,
-                   "Relative change in instructions per step that counts (runs with --counter instructions)")
-      ->check(CLI::Range(0.0, 0.5))
-      ->capture_default_str();
-  CLI::Option* json = compare->add_flag("--json", options->output.json, "Print one JSON object (fx2d-bench.compare/1)");
-  compare->add_flag("--markdown", options->output.markdown, "Print a Markdown report for a pull-request comment")->excludes(json);
-  compare->add_flag("--force", options->settings.force,
-                    "Compare runs of different scenes, and do not warn when machine, compiler or flags differ");
-  compare->callback([options, &exit_status] { exit_status = compare_command(*options); });
-}
 
 }  // namespace fxbench

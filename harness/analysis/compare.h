@@ -1,7 +1,8 @@
 // `fx2d-bench compare`: speed and accuracy of two result files (A/B: every engine, scene and size
 // present in both), or of the engines within one file (the cross-engine view). The comparison
-// returns rows and an exit code and prints nothing; the renderers turn that into a terminal
-// table, JSON (schema fx2d-bench.compare/1) or Markdown. Row meanings: harness/README.md.
+// returns rows and an exit code and prints nothing; the renderers (format/compare_format.h) turn
+// that into a terminal table, JSON (schema fx2d-bench.compare/1) or Markdown, and
+// commands/compare.h reads the files. Row meanings: harness/README.md.
 //
 // Invariants: a verdict is a deterministic function of the two files and the settings
 // (statistics.h); two runs of the same scene name and size but different scene hashes are never
@@ -12,7 +13,6 @@
 // their rows have no test and are never inconclusive.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,6 +26,11 @@ namespace fxbench {
 
 inline constexpr const char* compare_schema = "fx2d-bench.compare/1";
 
+// The metrics that gate: wall time per step and, where both files were counted, exact
+// instructions per step. Every other row (cycles, phases) is information.
+inline constexpr const char* step_metric = "ms_per_step";
+inline constexpr const char* instructions_metric = "instructions_per_step";
+
 struct CompareSettings {
   VerdictRules rules;
   double accuracy_tolerance = 0.05;  // relative; a metre figure also gets accuracy_floor_m
@@ -38,6 +43,8 @@ struct CompareSettings {
 inline constexpr double accuracy_floor_m = 1e-4;
 
 enum class AccuracyChange { same, better, worse, changed };
+
+std::string to_string(AccuracyChange change);
 
 // One accuracy figure of a run, worst over its samples (summary.h). Penetration, escaped and
 // NaN bodies are errors in every scene, so larger is worse; a displacement is an error only in a
@@ -81,6 +88,7 @@ struct CompareReport {
   std::vector<CompareRow> rows;
   std::vector<std::string> warnings;  // one line each, for stderr
 
+  bool is_regression(const CompareRow& row) const;  // a gating row, slower or less accurate
   int count_regressions() const;
   ExitCode exit_code() const;
   std::string headline() const;  // e.g. "2 regressions, 1 improvement, 9 unchanged, 0 inconclusive"
@@ -102,24 +110,5 @@ CompareReport compare_variants(const VariantResults& variants, const CompareSett
 // scene has both sides.
 CompareReport compare_engines(const ResultSet& results, const std::string& label, const std::string& baseline,
                               const CompareSettings& settings);
-
-// Reads the files (read_results_h5) and calls the above: A/B when b_path is given.
-CompareReport compare_files(const std::string& a_path, const std::optional<std::string>& b_path,
-                            const std::string& baseline, const CompareSettings& settings);
-
-nlohmann::ordered_json compare_json(const CompareReport& report);
-std::string compare_markdown(const CompareReport& report);
-std::string compare_table(const CompareReport& report);
-
-// How a command that ends in a verdict (`compare`, `ab`) prints it: the terminal table unless
-// one of these is set (the commands let at most one be).
-struct CompareOutput {
-  bool json = false;
-  bool markdown = false;
-};
-
-// The report's warnings on stderr, the report on stdout in the chosen format; returns the
-// report's exit code, which is the command's.
-ExitCode print_compare_report(const CompareReport& report, const CompareOutput& output);
 
 }  // namespace fxbench

@@ -342,12 +342,12 @@ void judge_rows(const json& compare, const std::string& label, const Policy& pol
   for (std::size_t i = 0; i < compare["rows"].size(); ++i) {
     const json& source = compare["rows"][i];
     GateRow row = reader.read(source, i);
-    if (row.metric != time_metric && row.metric != instructions_metric) continue;
+    if (row.metric != step_metric && row.metric != instructions_metric) continue;
     judge_row(source, policy, row);
     rows.push_back(std::move(row));
   }
   if (rows.size() == before)
-    throw InputError(label + ": no " + std::string(time_metric) + " or " + instructions_metric + " rows to gate");
+    throw InputError(label + ": no " + std::string(step_metric) + " or " + instructions_metric + " rows to gate");
 }
 
 }  // namespace

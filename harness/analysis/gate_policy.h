@@ -30,11 +30,6 @@ namespace fxbench {
 inline constexpr const char* gating_schema = "fx2d-bench.gating/1";
 inline constexpr const char* gate_schema = "fx2d-bench.gate/1";
 
-// The metrics that gate: wall time per step (interleaved rounds) and, from the "counter" build,
-// exact instruction counts per step. Every other compare row (cycles, phases) is information.
-inline constexpr const char* time_metric = "ms_per_step";
-inline constexpr const char* instructions_metric = "instructions_per_step";
-
 struct Thresholds {
   double noise = 0.02;                    // time ratios within 1 +- noise are no change
   double alpha = 0.05;                    // significance level of the rank test

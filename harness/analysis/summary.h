@@ -1,5 +1,5 @@
-// What `fx2d-bench run` prints: the aggregates of each run as a terminal table or as the JSON
-// summary (schema "fx2d-bench.summary/1", described in harness/README.md).
+// The aggregates of a run that `fx2d-bench run` prints (format/summary_format.h) and `compare`
+// and `sweep` judge by.
 //
 // Invariant: every timing aggregate is taken over repeats, never over steps: a repeat's figure is
 // its mean per step (its total over its step count), and the median, min and max are across
@@ -8,7 +8,6 @@
 // the first repeat, except the kinetic energy, which is the last sample's.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,8 +16,6 @@
 #include "stats/stats.h"
 
 namespace fxbench {
-
-inline constexpr const char* summary_schema = "fx2d-bench.summary/1";
 
 struct RunSummary {
   Spread ms_per_step;
@@ -30,14 +27,5 @@ struct RunSummary {
 };
 
 RunSummary summarise(const RunRecord& run);
-
-// The summary object; `results.scenes` supplies each run's primary metric, matched by scene hash.
-// The accuracy object of the JSON summaries (run, sweep): the worst figures over the samples.
-nlohmann::ordered_json accuracy_json(const AccuracySample& worst);
-
-nlohmann::ordered_json summary_json(const ResultSet& results);
-
-// One row per run, columns aligned, ending in a newline.
-std::string summary_table(const ResultSet& results);
 
 }  // namespace fxbench

@@ -20,6 +20,7 @@
 #include "commands/cli_options.h"
 #include "commands/commands.h"
 #include "common/errors.h"
+#include "format/compare_format.h"
 #include "measure/ab_builds.h"
 #include "measure/clocks.h"
 #include "measure/interleave.h"

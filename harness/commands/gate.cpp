@@ -12,6 +12,7 @@
 #include <memory>
 #include <sstream>
 
+#include "analysis/compare.h"
 #include "analysis/gate_policy.h"
 #include "commands/commands.h"
 #include "common/errors.h"

@@ -18,10 +18,10 @@
 #include <memory>
 #include <optional>
 
-#include "analysis/summary.h"
 #include "commands/cli_options.h"
 #include "commands/commands.h"
 #include "common/errors.h"
+#include "format/summary_format.h"
 #include "measure/clocks.h"
 #include "measure/instruction_counter.h"
 #include "measure/interrupt.h"

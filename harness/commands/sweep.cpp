@@ -29,6 +29,7 @@
 #include "commands/cli_options.h"
 #include "commands/commands.h"
 #include "common/errors.h"
+#include "format/summary_format.h"
 #include "format/text_table.h"
 #include "measure/clocks.h"
 #include "measure/provenance.h"

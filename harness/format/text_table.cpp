@@ -23,4 +23,19 @@ std::string aligned_columns(const std::vector<std::vector<std::string>>& rows) {
   return text;
 }
 
+std::string markdown_table(const std::vector<std::vector<std::string>>& table) {
+  std::string text;
+  for (std::size_t line = 0; line < table.size(); ++line) {
+    text += "|";
+    for (const std::string& cell : table[line]) text += " " + cell + " |";
+    text += "\n";
+    if (line == 0) {
+      text += "|";
+      for (std::size_t column = 0; column < table[0].size(); ++column) text += "---|";
+      text += "\n";
+    }
+  }
+  return text;
+}
+
 }  // namespace fxbench

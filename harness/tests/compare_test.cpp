@@ -23,6 +23,8 @@
 #include <utility>
 
 #include "commands/commands.h"
+#include "commands/compare.h"
+#include "format/compare_format.h"
 #include "storage/results_h5.h"
 
 namespace fxbench {

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "analysis/summary.h"
+#include "format/summary_format.h"
 #include "measure/runner.h"
 #include "stats/stats.h"
 #include "storage/results_h5.h"
