@@ -1,4 +1,4 @@
-# Compiles the canonical scene files into fx2d_bench_core as raw string literals, so scenes/*.json
+# Compiles the canonical scene files into fx2d_bench_scene as raw string literals, so scenes/*.json
 # stay the one source of truth: editing one re-runs this step (CMAKE_CONFIGURE_DEPENDS) and the
 # binary follows. Produces ${CMAKE_CURRENT_BINARY_DIR}/embedded_scenes.cpp.
 set(fx2d_canonical_scenes pile stacks settling_boxes)
