@@ -11,7 +11,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <iostream>
@@ -21,6 +20,7 @@
 #include "analysis/gate_policy.h"
 #include "commands/commands.h"
 #include "common/errors.h"
+#include "common/number_text.h"
 #include "format/text_table.h"
 #include "measure/interrupt.h"
 #include "storage/history_h5.h"
@@ -96,12 +96,6 @@ void append_command(const AppendOptions& options) {
 }
 
 // --- show -----------------------------------------------------------------------------------------
-
-std::string formatted(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
-}
 
 // The last `nights` distinct dates, or every row.
 std::span<const HistoryRow> last_nights(const std::vector<HistoryRow>& rows, int nights) {

@@ -9,7 +9,6 @@
 // complete new report or left as it was: the page is rendered into a sibling directory that is
 // renamed into place, and --force replaces only an empty directory or a previous report (one
 // holding index.html), never any other directory a typo may name.
-#include <hdf5.h>
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -30,7 +29,6 @@
 #include "common/errors.h"
 #include "measure/child_process.h"
 #include "storage/file_integrity.h"
-#include "storage/h5_types.h"
 #include "storage/results_h5.h"
 
 namespace fxbench {
@@ -56,34 +54,6 @@ struct ReportOptions {
 
 // --- the inputs -----------------------------------------------------------------------------------
 
-struct Hid {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  ~Hid() {
-    if (id >= 0) close(id);
-  }
-};
-
-// The root attribute `schema` of an HDF5 file, or "" when it has none that is a string.
-std::string root_schema(const std::string& path) {
-  const SilentHdf5Errors quiet;  // the report reports in one line instead
-  if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError(path + ": not an HDF5 file");
-  const Hid file{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
-  if (file.id < 0) throw InputError(path + ": cannot open: the HDF5 file is truncated or damaged");
-  if (H5Aexists(file.id, "schema") <= 0) return {};
-  const Hid attribute{H5Aopen(file.id, "schema", H5P_DEFAULT), H5Aclose};
-  const Hid stored_type{H5Aget_type(attribute.id), H5Tclose};
-  if (H5Tget_class(stored_type.id) != H5T_STRING || H5Tis_variable_str(stored_type.id) <= 0) return {};
-  const Hid text_type{H5Tcopy(H5T_C_S1), H5Tclose};
-  H5Tset_size(text_type.id, H5T_VARIABLE);
-  H5Tset_cset(text_type.id, H5T_CSET_UTF8);
-  char* text = nullptr;
-  if (H5Aread(attribute.id, text_type.id, static_cast<void*>(&text)) < 0 || text == nullptr) return {};
-  std::string schema(text);
-  H5free_memory(text);
-  return schema;
-}
-
 // A result file (runs, sweeps, stability tables all share its layout) is read in full, so a
 // damaged one is named here; a history file's layout is the renderer's to read.
 void check_h5_input(const std::string& path) {
@@ -92,7 +62,7 @@ void check_h5_input(const std::string& path) {
   // (file_integrity.h). An unsealed result file is refused by read_results_h5; an unsealed history
   // file comes from an fx2d-bench older than the seal on history files and is still accepted.
   if (carries_h5_seal(path)) verify_h5_seal(path);
-  const std::string schema = root_schema(path);
+  const std::string schema = h5_root_schema(path);
   if (schema == results_schema) {
     read_results_h5(path);
     return;

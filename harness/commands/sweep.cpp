@@ -29,6 +29,7 @@
 #include "commands/cli_options.h"
 #include "commands/commands.h"
 #include "common/errors.h"
+#include "common/number_text.h"
 #include "format/summary_format.h"
 #include "format/text_table.h"
 #include "measure/clocks.h"
@@ -273,12 +274,6 @@ Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
   if (isatty(STDERR_FILENO) == 1) std::fputs("\r\x1b[K", stderr);
   mark_fronts(sweep);
   return sweep;
-}
-
-std::string formatted(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
 }
 
 std::string table_of(const Sweep& sweep) {

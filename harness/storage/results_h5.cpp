@@ -294,4 +294,21 @@ ResultSet read_results_h5(const std::string& path) {
   return ResultsReader(path).read();
 }
 
+std::string h5_root_schema(const std::string& path) {
+  const SilentHdf5Errors quiet;
+  if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError(path + ": not an HDF5 file");
+  const H5Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (file.get() < 0) throw InputError(path + ": cannot open: the HDF5 file is truncated or damaged");
+  if (H5Aexists(file.get(), "schema") <= 0) return {};
+  const H5Handle attribute(H5Aopen(file.get(), "schema", H5P_DEFAULT), H5Aclose);
+  const H5Handle stored_type(H5Aget_type(attribute.get()), H5Tclose);
+  if (H5Tget_class(stored_type.get()) != H5T_STRING || H5Tis_variable_str(stored_type.get()) <= 0) return {};
+  const H5Handle text_type = results_layout::utf8_string_type();
+  char* text = nullptr;
+  if (H5Aread(attribute.get(), text_type.get(), static_cast<void*>(&text)) < 0 || text == nullptr) return {};
+  std::string schema(text);
+  H5free_memory(text);
+  return schema;
+}
+
 }  // namespace fxbench

@@ -25,4 +25,9 @@ void write_results_h5(const ResultSet& results, const std::string& path, bool ov
 // Reads a file written by write_results_h5. Throws InputError.
 ResultSet read_results_h5(const std::string& path);
 
+// The root attribute `schema` of any HDF5 file the harness writes (result or history file), or ""
+// when it has none that is a string: what lets a reader choose how to read a file. Throws
+// InputError when the file is not HDF5 or cannot be opened.
+std::string h5_root_schema(const std::string& path);
+
 }  // namespace fxbench
