@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "common/results.h"
-#include "stats/stats.h"
+#include "stats/statistics.h"
 
 namespace fxbench {
 

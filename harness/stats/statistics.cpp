@@ -114,6 +114,17 @@ double median(std::span<const double> sample) {
   return median_in_place(copy);
 }
 
+Spread spread_of(std::span<const double> sample) {
+  if (sample.empty()) return {};
+  const auto [min, max] = std::minmax_element(sample.begin(), sample.end());
+  return {median(sample), *min, *max};
+}
+
+double mean_of(std::span<const double> sample) {
+  if (sample.empty()) return 0.0;
+  return std::accumulate(sample.begin(), sample.end(), 0.0) / static_cast<double>(sample.size());
+}
+
 std::vector<double> row_means(std::span<const double> matrix, std::size_t columns) {
   std::vector<double> means;
   if (columns == 0) return means;

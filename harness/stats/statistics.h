@@ -35,6 +35,18 @@ namespace fxbench {
 // The median; an even count takes the mean of the two middle values; empty gives 0.
 double median(std::span<const double> sample);
 
+// The spread of a sample, as the run summary reports it: an empty sample has every figure 0;
+// otherwise min <= median <= max, with median() above, so `run` and `compare` report the same
+// median of the same numbers.
+struct Spread {
+  double median = 0.0;
+  double min = 0.0;
+  double max = 0.0;
+};
+
+Spread spread_of(std::span<const double> sample);
+double mean_of(std::span<const double> sample);  // empty gives 0
+
 // A repeat-major matrix (index = row * columns + column, as RunRecord stores samples): the mean
 // or the median of each row (one per repeat), and the median of each column (one per step,
 // across repeats). A partial last row is ignored.

@@ -25,7 +25,7 @@
 #include "analysis/summary.h"
 #include "format/summary_format.h"
 #include "measure/runner.h"
-#include "stats/stats.h"
+#include "stats/statistics.h"
 #include "storage/results_h5.h"
 
 namespace fxbench {
