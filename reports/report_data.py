@@ -1,6 +1,6 @@
 """Reads every file fx2d-bench writes into plain Python records for the report.
 
-Invariant: the aggregates here follow the harness's own rules (harness/summary.h), so a number on
+Invariant: the aggregates here follow the harness's own rules (harness/analysis/summary.h), so a number on
 the page is the number `fx2d-bench run` prints: a repeat's figure is its mean per step, medians
 and extremes are across repeats, accuracy is the worst over the sampled steps of the first repeat
 (kinetic energy: the last sample). A file's runs are "runs" in the report only when the file is a
@@ -50,7 +50,7 @@ class Run:
 
 @dataclass
 class Table:
-    """A group of equal-length column datasets, as harness/h5_tables.h writes them."""
+    """A group of equal-length column datasets, as harness/storage/h5_tables.h writes them."""
     attributes: dict
     columns: dict          # name -> numpy array (strings decoded)
     units: dict            # name -> units string

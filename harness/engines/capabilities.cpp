@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine.h"
+#include "engines/engine.h"
 
 namespace fxbench {
 namespace {

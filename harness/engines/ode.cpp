@@ -43,8 +43,8 @@
 #include <utility>
 #include <vector>
 
+#include "common/errors.h"
 #include "engines/engines.h"
-#include "errors.h"
 
 namespace fxbench {
 namespace {

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "errors.h"
+#include "common/errors.h"
 
 namespace fxbench {
 namespace {

@@ -13,7 +13,7 @@
 #include <string>
 #include <string_view>
 
-#include "engine.h"
+#include "engines/engine.h"
 #include "plugin/fx2d_plugin_abi.h"
 
 namespace fxbench {

@@ -20,8 +20,8 @@
 #include <fstream>
 #include <string>
 
-#include "errors.h"
-#include "results_h5.h"
+#include "common/errors.h"
+#include "storage/results_h5.h"
 
 namespace {
 

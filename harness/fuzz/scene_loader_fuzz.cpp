@@ -13,8 +13,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "errors.h"
-#include "scene_loader.h"
+#include "common/errors.h"
+#include "scene/scene_loader.h"
 
 namespace {
 

@@ -12,7 +12,7 @@
  * reports it in its error buffer and returns NULL); every pointer a scene holds is read only
  * during create.
  *
- * Units as in harness/scene_spec.h: metres, radians, seconds, kg/m^2; doubles throughout, each
+ * Units as in harness/scene/scene_spec.h: metres, radians, seconds, kg/m^2; doubles throughout, each
  * plugin converts to its engine's own precision exactly as the built-in engine does. */
 #ifndef FX2D_BENCH_PLUGIN_ABI_H
 #define FX2D_BENCH_PLUGIN_ABI_H

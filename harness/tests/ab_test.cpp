@@ -16,15 +16,15 @@
 #include <string>
 #include <vector>
 
-#include "ab_builds.h"
+#include "analysis/compare.h"
 #include "bench_process.h"
-#include "compare.h"
 #include "engines/plugin_engine.h"
+#include "measure/ab_builds.h"
+#include "measure/interleave.h"
 #include "plugin_copies.h"
-#include "interleave.h"
-#include "results_h5.h"
-#include "scene_loader.h"
-#include "statistics.h"
+#include "scene/scene_loader.h"
+#include "stats/statistics.h"
+#include "storage/results_h5.h"
 
 namespace fxbench {
 namespace {

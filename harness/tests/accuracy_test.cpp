@@ -4,7 +4,7 @@
 // Tolerances: the geometry is double precision on lengths of order 1 m, and each figure is a
 // handful of additions, products and one sin/cos/sqrt, each good to a few units in the last
 // place (~1e-16); 1e-12 leaves four orders of margin and still catches any wrong formula.
-#include "accuracy.h"
+#include "metrics/accuracy.h"
 
 #include <gtest/gtest.h>
 

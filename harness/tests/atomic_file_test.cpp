@@ -2,7 +2,7 @@
 // stages come in their documented order, and a failure at any stage before the rename leaves the
 // old file as it was and no temporary behind. (That the fsyncs reach the disk is not observable
 // without cutting the power; crash_safety_test kills writers at random moments instead.)
-#include "atomic_file.h"
+#include "storage/atomic_file.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "errors.h"
+#include "common/errors.h"
 
 namespace fxbench {
 namespace {

@@ -7,7 +7,7 @@
 // The goldens are goldens/compare_*.{json,md,txt}. They are deterministic (the bootstrap has a
 // fixed seed). Regenerate them, after a deliberate change of method or format, only with:
 //   FX2D_UPDATE_GOLDENS=1 <build>/harness/tests/compare_test --gtest_filter='*Golden*'
-#include "compare.h"
+#include "analysis/compare.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -22,8 +22,10 @@
 #include <sstream>
 #include <utility>
 
-#include "commands.h"
-#include "results_h5.h"
+#include "commands/commands.h"
+#include "commands/compare.h"
+#include "format/compare_format.h"
+#include "storage/results_h5.h"
 
 namespace fxbench {
 namespace {

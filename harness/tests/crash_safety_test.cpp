@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "bench_process.h"
-#include "results_h5.h"
+#include "storage/results_h5.h"
 
 namespace fxbench {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "counting_allocator.h"
 #include "engines/engines.h"
-#include "scene_loader.h"
+#include "scene/scene_loader.h"
 
 namespace fxbench {
 namespace {

@@ -19,9 +19,9 @@
 #include <string>
 #include <vector>
 
-#include "accuracy.h"
 #include "engines/engines.h"
-#include "scene_loader.h"
+#include "metrics/accuracy.h"
+#include "scene/scene_loader.h"
 
 namespace fxbench {
 namespace {

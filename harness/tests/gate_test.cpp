@@ -6,7 +6,7 @@
 //
 // Boundary values are chosen exactly representable in binary (1 + 2^-5 = 1.03125), so "at the
 // band edge" means exactly at it, not a rounding away from it.
-#include "gate_policy.h"
+#include "analysis/gate_policy.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -16,7 +16,7 @@
 #include <fstream>
 
 #include "bench_process.h"
-#include "statistics.h"
+#include "stats/statistics.h"
 
 namespace fxbench {
 namespace {

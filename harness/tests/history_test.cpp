@@ -9,7 +9,7 @@
 // "renamed"), so a SIGKILL or SIGINT lands exactly there; a loop of SIGKILLs at random moments
 // covers the moments between the stages, the HDF5 write itself among them. Whatever the moment,
 // the history must read back whole with either its old N rows or N + k.
-#include "history_h5.h"
+#include "storage/history_h5.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -27,8 +27,8 @@
 #include <thread>
 
 #include "bench_process.h"
-#include "errors.h"
-#include "file_integrity.h"
+#include "common/errors.h"
+#include "storage/file_integrity.h"
 
 namespace fxbench {
 namespace {

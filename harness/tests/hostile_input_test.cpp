@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "bench_process.h"
-#include "file_integrity.h"
+#include "storage/file_integrity.h"
 
 namespace fxbench {
 namespace {

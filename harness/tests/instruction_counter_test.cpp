@@ -7,7 +7,7 @@
 //
 // Valgrind cannot run a program built with AddressSanitizer, so the tests that start it are
 // skipped in FX2D_SANITIZE builds, and where valgrind is not installed.
-#include "instruction_counter.h"
+#include "measure/instruction_counter.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -20,9 +20,9 @@
 #include <sstream>
 
 #include "bench_process.h"
-#include "errors.h"
-#include "results_h5.h"
-#include "scene_loader.h"
+#include "common/errors.h"
+#include "scene/scene_loader.h"
+#include "storage/results_h5.h"
 
 namespace fxbench {
 namespace {

@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "child_process.h"
+#include "measure/child_process.h"
 
 namespace fxbench {
 namespace {

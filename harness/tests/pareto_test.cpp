@@ -1,7 +1,7 @@
 // Tests of the speed-versus-accuracy Pareto front (pareto.h) on hand-made points whose front can
 // be read off by eye: dominance, ties, groups, NaN errors, the staircase order, and where a
 // default setting stands.
-#include "pareto.h"
+#include "stats/pareto.h"
 
 #include <gtest/gtest.h>
 

@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "accuracy.h"
+#include "common/errors.h"
 #include "engines/engines.h"
 #include "engines/plugin_engine.h"
+#include "metrics/accuracy.h"
 #include "plugin_copies.h"
-#include "errors.h"
-#include "scene_loader.h"
+#include "scene/scene_loader.h"
 
 namespace fxbench {
 namespace {

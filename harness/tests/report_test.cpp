@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "file_integrity.h"
+#include "storage/file_integrity.h"
 
 namespace {
 

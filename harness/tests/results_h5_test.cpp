@@ -5,7 +5,7 @@
 // The layout golden is goldens/results_layout.txt. Regenerate it, after a deliberate layout
 // change, only with:
 //   FX2D_UPDATE_GOLDENS=1 <build>/harness/tests/results_h5_test --gtest_filter='*Golden*'
-#include "results_h5.h"
+#include "storage/results_h5.h"
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "errors.h"
-#include "file_integrity.h"
+#include "common/errors.h"
+#include "storage/file_integrity.h"
 
 namespace fxbench {
 namespace {

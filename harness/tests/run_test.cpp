@@ -22,10 +22,11 @@
 #include <string>
 #include <vector>
 
-#include "results_h5.h"
-#include "runner.h"
-#include "stats.h"
-#include "summary.h"
+#include "analysis/summary.h"
+#include "format/summary_format.h"
+#include "measure/runner.h"
+#include "stats/statistics.h"
+#include "storage/results_h5.h"
 
 namespace fxbench {
 namespace {

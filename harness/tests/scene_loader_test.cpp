@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "errors.h"
-#include "hash.h"
-#include "scene_loader.h"
+#include "common/errors.h"
+#include "common/hash.h"
+#include "scene/scene_loader.h"
 
 namespace fxbench {
 namespace {

@@ -1,7 +1,7 @@
 // Building blocks for hand-made SceneSpecs in the harness's tests.
 #pragma once
 
-#include "scene_spec.h"
+#include "scene/scene_spec.h"
 
 namespace fxbench::test {
 

@@ -1,7 +1,7 @@
 // Tests of the stability suite (stability_tests.h): each pass criterion on hand-built poses, on
 // both sides of its limit; the bracket-and-bisect search on synthetic monotone predicates with a
 // known threshold; and one real search on fx2d, small enough to run in a few seconds.
-#include "stability_tests.h"
+#include "analysis/stability_tests.h"
 
 #include <gtest/gtest.h>
 

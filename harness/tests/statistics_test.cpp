@@ -2,7 +2,7 @@
 // interval (its bounds, its determinism, a known shift found, paired rounds against independent
 // ones), the rank tests against examples worked by hand, and the two-stage verdict at each of its
 // boundaries.
-#include "statistics.h"
+#include "stats/statistics.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,54 @@
+// fx2d-bench: the command-line entry point. Registers the subcommands and is the one place that
+// turns what they throw into a message and an exit code: bad input (InputError, a CLI11 parse
+// error) prints one line and exits 2; anything else is a bug or an engine failure, one line and
+// exit 4. Never a stack trace, never more than one line.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "commands/commands.h"
+#include "common/errors.h"
+#include "measure/provenance.h"
+
+namespace {
+
+int fail(const std::string& message, fxbench::ExitCode code) {
+  std::string line = message;
+  std::ranges::replace(line, '\n', ' ');
+  std::fprintf(stderr, "fx2d-bench: %s\n", line.c_str());
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Times Fx2D, Box2D and ODE on the same scenes and measures their accuracy", "fx2d-bench"};
+  app.set_version_flag("--version", [] { return "fx2d-bench (" + fxbench::build_description() + ")"; });
+  app.require_subcommand(1);
+  fxbench::register_run(app, fxbench::join_command_line(argc, argv));
+  fxbench::register_engines(app);
+  int status = fxbench::exit_ok;  // a subcommand with a verdict (compare) sets it
+  fxbench::register_compare(app, status);
+  fxbench::register_sweep(app, fxbench::join_command_line(argc, argv));
+  fxbench::register_stability(app, fxbench::join_command_line(argc, argv));
+  fxbench::register_report(app);
+  fxbench::register_count_instructions(app);
+  fxbench::register_ab(app, fxbench::join_command_line(argc, argv), status);
+  fxbench::register_gate(app, status);
+  fxbench::register_history(app);
+  try {
+    app.parse(argc, argv);
+    return status;
+  } catch (const CLI::ParseError& error) {
+    if (error.get_exit_code() == 0) return app.exit(error);  // --help, --version
+    return fail(error.what(), fxbench::exit_bad_input);
+  } catch (const fxbench::InputError& error) {
+    return fail(error.what(), fxbench::exit_bad_input);
+  } catch (const std::exception& error) {
+    return fail(error.what(), fxbench::exit_internal);
+  } catch (...) {
+    return fail("unknown internal error", fxbench::exit_internal);
+  }
+}

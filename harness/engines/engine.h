@@ -1,0 +1,81 @@
+// The one interface through which the harness knows a physics engine.
+//
+// An adapter builds a SceneSpec into its engine (untimed), steps it (timed by the caller), and
+// reports state in the spec's body order so that the harness can measure every engine with the
+// same geometry. Adapters are listed in engines/registry.cpp; nothing else names an engine.
+// Besides the registry's own, an engine can be a plugin: a build of Fx2D loaded from a shared
+// library (engines/plugin_engine.h), named "plugin:/path/to/libfx2d_bench_plugin.so".
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "scene/scene_spec.h"
+
+namespace fxbench {
+
+struct BodyState {
+  Vec2 position;          // body origin, metres
+  double angle = 0.0;     // radians
+  Vec2 linear_velocity;   // m/s
+  double angular_velocity = 0.0;
+};
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+
+  // Names of this engine's own phase split, in the order read_phases() fills them. Empty for an
+  // engine that reports only its total.
+  virtual std::vector<std::string> phase_names() const = 0;
+  // Creates every body and joint of `scene` with the settings scene.<engine> gives. Called once
+  // per instance, never timed. Throws std::runtime_error on what the engine cannot represent.
+  virtual void build(const SceneSpec& scene) = 0;
+  // Advances one time step of scene.dt.
+  virtual void step() = 0;
+  // The last step's phase split in milliseconds, one entry per phase_names() entry.
+  virtual void read_phases(std::span<double> ms) const = 0;
+  // Touching contact manifolds (body pairs in contact) after the last step.
+  virtual int contact_count() const = 0;
+  // Poses and velocities of all bodies, in SceneSpec::bodies order; `out` is resized to fit.
+  virtual void read_state(std::vector<BodyState>& out) const = 0;
+};
+
+// What an engine can build. Every command checks each scene against it before measuring anything,
+// so a scene an engine cannot represent is refused up front (or, when the engine was not named but
+// taken from `all`, skipped) rather than failing after the engines before it were measured.
+struct EngineCapabilities {
+  std::vector<ShapeKind> shapes{ShapeKind::circle, ShapeKind::box, ShapeKind::polygon};
+  std::vector<JointKind> joints{JointKind::distance, JointKind::revolute};
+  std::size_t max_bodies = std::numeric_limits<std::size_t>::max();
+  double max_linear_speed = std::numeric_limits<double>::infinity();  // m/s, of any body at the start
+};
+
+// What `scene` needs that `capabilities` lack, as a phrase that completes "cannot build ..."
+// ("polygons", "distance joints", "more than 65536 bodies", "bodies faster than 400 m/s");
+// nullopt when it can build it all.
+std::optional<std::string> missing_capability(const EngineCapabilities& capabilities, const SceneSpec& scene);
+
+struct EngineInfo {
+  std::string name;       // what --engine selects: "fx2d", "box2d", "ode", or a plugin's name
+  std::string version;    // the library's version, e.g. "2.4.1"; a plugin adds which build it is
+  std::string settings;   // one line describing the solver settings it reads from a scene
+  // Makes a fresh, unbuilt instance. A function object, so a plugin's entry can hold its library.
+  std::function<std::unique_ptr<Engine>()> make;
+  std::string solver;     // the scene's /solver/<solver> block it reads: "fx2d" for an Fx2D plugin
+  EngineCapabilities capabilities;
+};
+
+// Every engine the harness knows, in a fixed order.
+std::span<const EngineInfo> engine_registry();
+// The entry named `name`, or nullptr. A name "plugin:PATH" or "plugin:PATH|LABEL" loads the
+// plugin at PATH once per process (named LABEL, or the whole name) and returns its entry, which
+// lives as long as the process; a plugin that cannot be loaded throws InputError.
+const EngineInfo* find_engine(const std::string& name);
+
+}  // namespace fxbench

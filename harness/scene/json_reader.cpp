@@ -1,0 +1,101 @@
+// Typed reads of scene values and the messages that reject them (json_reader.h).
+#include "scene/json_reader.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fxbench::scene_detail {
+namespace {
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> previous(b.size() + 1);
+  std::vector<std::size_t> current(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) previous[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    current[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t substitution = previous[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
+      current[j] = std::min({previous[j] + 1, current[j - 1] + 1, substitution});
+    }
+    std::swap(previous, current);
+  }
+  return previous[b.size()];
+}
+
+}  // namespace
+
+std::string describe_value(const Json& value) {
+  constexpr std::size_t kMaxShown = 60;
+  std::string text = value.dump(-1, ' ', false, Json::error_handler_t::replace);
+  if (text.size() > kMaxShown) text = text.substr(0, kMaxShown - 3) + "...";
+  return text;
+}
+
+// Appended piece by piece: GCC 12 misreads "\"" + std::string as an overlapping copy (-Wrestrict).
+std::string in_quotes(std::string_view text) {
+  std::string quoted_text(1, '"');
+  quoted_text.append(text).push_back('"');
+  return quoted_text;
+}
+
+std::string join_quoted(std::span<const std::string> names) {
+  std::string joined;
+  for (const std::string& name : names) joined += (joined.empty() ? "" : ", ") + in_quotes(name);
+  return joined;
+}
+
+std::string unknown_key_message(std::string_view key, std::span<const std::string> known) {
+  const auto closest =
+      std::ranges::min_element(known, {}, [&](const std::string& name) { return edit_distance(key, name); });
+  if (closest != known.end() &&
+      edit_distance(key, *closest) <= std::max<std::size_t>(2, closest->size() / 3)) {
+    return "unknown key; did you mean " + in_quotes(*closest) + "?";
+  }
+  return "unknown key; expected one of " + join_quoted(known);
+}
+
+std::string ErrorReporter::where(const std::string& pointer, bool at_key) const {
+  // The last override wins, as it was applied last.
+  for (auto it = overrides_.rbegin(); it != overrides_.rend(); ++it) {
+    if (pointer_is_within(pointer, it->written)) return it->label;
+  }
+  const std::size_t offset =
+      locate_in_text(text_, split_pointer(pointer).value_or(std::vector<std::string>{}), at_key);
+  const TextPosition position = position_at(text_, offset);
+  return origin_ + ":" + std::to_string(position.line) + ":" + std::to_string(position.column);
+}
+
+std::string format_bound(double value) {
+  if (value == std::floor(value) && std::abs(value) < 1e15)
+    return std::to_string(static_cast<long long>(value));
+  return Json(value).dump();
+}
+
+double read_number(const ErrorReporter& errors, Json& value, const std::string& pointer, const Range& range) {
+  if (!value.is_number()) errors.expected(pointer, range.describe("number", false), value);
+  const double number = value.get<double>();
+  if (!range.contains(number)) errors.expected(pointer, range.describe("number", number > range.max), value);
+  value = number;
+  return number;
+}
+
+int read_integer(const ErrorReporter& errors, Json& value, const std::string& pointer, const Range& range) {
+  const bool integral = value.is_number_integer() ||
+                        (value.is_number_float() && value.get<double>() == std::floor(value.get<double>()));
+  if (!integral) errors.expected(pointer, range.describe("integer", false), value);
+  const double number = value.get<double>();
+  if (!range.contains(number)) errors.expected(pointer, range.describe("integer", number > range.max), value);
+  const int integer = static_cast<int>(number);
+  value = integer;
+  return integer;
+}
+
+Vec2 read_vec2(const ErrorReporter& errors, Json& value, const std::string& pointer, const Range& range) {
+  if (!value.is_array() || value.size() != 2) {
+    errors.expected(pointer, "[x, y] with each " + range.describe("number", false), value);
+  }
+  return {read_number(errors, value[0], child_pointer(pointer, 0), range),
+          read_number(errors, value[1], child_pointer(pointer, 1), range)};
+}
+
+}  // namespace fxbench::scene_detail

@@ -1,0 +1,194 @@
+// Loads scene files (format: scenes/README.md) into SceneSpecs: parse, apply command-line
+// overrides, validate, fill defaults, expand generators into explicit bodies.
+//
+// Invariant: every value is taken through one reader call that checks it and writes the resolved
+// value back into the document, so resolved_json holds exactly what the SceneSpec was built from
+// and nothing else; every rejection is one InputError line naming where the value came from (a
+// file's line:column, or the command-line override that set it), its JSON pointer, and what was
+// expected.
+#include "scene/scene_loader.h"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string_view>
+
+#include "common/errors.h"
+#include "common/hash.h"
+#include "scene/json_reader.h"
+#include "scene/json_text.h"
+#include "scene/scene_reader.h"
+
+namespace fxbench {
+namespace {
+
+using namespace scene_detail;
+
+// ---------------------------------------------------------------------------------------------
+// Overrides
+
+// Writes `value` at `pointer`, creating the objects on the way that the document leaves out (a
+// file says only what differs from the defaults). Returns the pointer of what it wrote: the
+// value's, or that of the first object it had to create.
+std::string write_override(Json& document, const std::string& pointer, Json value, const std::string& label) {
+  const auto tokens = split_pointer(pointer);
+  if (!tokens || tokens->empty()) {
+    throw InputError(label + ": expected a JSON pointer such as /solver/fx2d/substeps, got " +
+                     in_quotes(pointer));
+  }
+  Json* node = &document;
+  std::string at;
+  std::optional<std::string> first_created;
+  for (std::size_t i = 0; i < tokens->size(); ++i) {
+    const std::string& token = (*tokens)[i];
+    const bool last = i + 1 == tokens->size();
+    const std::string parent = at;
+    at = child_pointer(at, token);
+    if (node->is_object()) {
+      if (!node->contains(token) && !first_created) first_created = at;
+      node = &(*node)[token];
+      if (!last && node->is_null()) *node = (*tokens)[i + 1] == "-" ? Json::array() : Json::object();
+    } else if (node->is_array()) {
+      if (last && token == "-") {
+        node->push_back(Json());
+        node = &node->back();
+        if (!first_created) first_created = child_pointer(parent, node->size() - 1);
+        continue;
+      }
+      const std::optional<std::size_t> index = parse_array_index(token);
+      if (!index || *index >= node->size()) {
+        throw InputError(label + ": " + display_pointer(parent) + ": expected an index below " +
+                         std::to_string(node->size()) + (last ? " or \"-\"" : "") + ", got " +
+                         in_quotes(token));
+      }
+      node = &(*node)[*index];
+    } else {
+      throw InputError(label + ": " + display_pointer(parent) + ": expected an object or an array to hold " +
+                       in_quotes(token) + ", got " + describe_value(*node));
+    }
+  }
+  *node = std::move(value);
+  return first_created.value_or(pointer);
+}
+
+// The text as JSON if it parses, else as a string, so --set /name=pile2 needs no quotes.
+Json parse_override_value(const std::string& text, const std::string& label) {
+  Json value = Json::parse(text, nullptr, false);
+  if (!value.is_discarded()) return value;
+  value = text;
+  try {
+    value.dump();
+  } catch (const Json::type_error&) {
+    throw InputError(label + ": expected UTF-8 text, got bytes that are not");
+  }
+  return value;
+}
+
+void apply_overrides(Json& document, const SceneOverrides& overrides, ErrorReporter& errors) {
+  const auto apply = [&](const std::string& label, const std::string& pointer, Json value) {
+    errors.add_override({label, write_override(document, pointer, std::move(value), label)});
+  };
+  if (overrides.bodies) apply("--bodies " + std::to_string(*overrides.bodies), "/size", *overrides.bodies);
+  if (overrides.steps) apply("--steps " + std::to_string(*overrides.steps), "/steps", *overrides.steps);
+  for (const auto& [pointer, value_text] : overrides.sets) {
+    const std::string label = "--set " + pointer + "=" + value_text;
+    apply(label, pointer, parse_override_value(value_text, label));
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parsing
+
+// nlohmann's "syntax error while parsing value - unexpected ']'; expected ..." loses its prefix
+// and position (we give our own, from the byte offset it reports).
+std::string readable_syntax_error(const Json::parse_error& error) {
+  std::string reason = error.what();
+  if (const std::size_t column = reason.find(": "); column != std::string::npos)
+    reason = reason.substr(column + 2);
+  if (const std::size_t dash = reason.find(" - ");
+      reason.starts_with("syntax error") && dash != std::string::npos) {
+    reason = reason.substr(dash + 3);
+  }
+  return "syntax error: " + reason;
+}
+
+Json parse_document(const std::string& text, const std::string& origin) {
+  try {
+    return Json::parse(text);
+  } catch (const Json::parse_error& error) {
+    const TextPosition position = position_at(text, error.byte == 0 ? 0 : error.byte - 1);
+    throw InputError(origin + ":" + std::to_string(position.line) + ":" + std::to_string(position.column) +
+                     ": " + readable_syntax_error(error));
+  } catch (const Json::out_of_range& error) {
+    // A number literal beyond double range ("1e400"); nlohmann gives no position for it.
+    std::string reason = error.what();
+    if (const std::size_t column = reason.find("] "); column != std::string::npos) reason = reason.substr(column + 2);
+    throw InputError(origin + ": " + reason + "; expected numbers within double range");
+  }
+}
+
+}  // namespace
+
+// Arrays and objects nested deeper than any scene needs are refused before parsing: the parser
+// recurses and allocates per level, so a file of '[' could otherwise take gigabytes.
+void require_shallow(const std::string& text, const std::string& origin) {
+  constexpr int max_depth = 64;
+  int depth = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > max_depth) {
+        const TextPosition position = position_at(text, i);
+        throw InputError(origin + ":" + std::to_string(position.line) + ":" + std::to_string(position.column) +
+                         ": nesting deeper than " + std::to_string(max_depth) + " levels, expected a scene");
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
+SceneSpec load_scene_text(const std::string& text, const std::string& origin,
+                          const SceneOverrides& overrides) {
+  require_shallow(text, origin);
+  Json document = parse_document(text, origin);
+  ErrorReporter errors(text, origin);
+  apply_overrides(document, overrides, errors);
+  SceneSpec spec = read_scene(errors, document);
+  spec.resolved_json = document.dump(2);
+  Fnv1a64 hash;
+  hash.add(spec.resolved_json);
+  spec.hash = hash.hex();
+  return spec;
+}
+
+SceneSpec load_scene_file(const std::string& path, const SceneOverrides& overrides) {
+  if (std::filesystem::is_directory(path)) throw InputError(path + ": cannot open: " + std::strerror(EISDIR));
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InputError(path + ": cannot open: " + std::strerror(errno));
+  // Scenes are compact (generators, not body lists of millions); a larger file is not a scene,
+  // and parsing one can cost gigabytes first.
+  constexpr std::uintmax_t max_scene_bytes = 16u << 20;
+  std::error_code size_error;
+  const std::uintmax_t size = std::filesystem::file_size(path, size_error);
+  if (!size_error && size > max_scene_bytes) {
+    throw InputError(path + ": " + std::to_string(size) + " bytes, expected a scene file of at most 16 MiB");
+  }
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw InputError(path + ": cannot read: " + std::strerror(errno));
+  SceneSpec spec = load_scene_text(text.str(), path, overrides);
+  spec.source_path = path;
+  return spec;
+}
+
+}  // namespace fxbench
