@@ -335,14 +335,6 @@ Policy read_policy(const std::string& path) {
   return parse_policy(read_bounded_file(path, "a gating policy"), path);
 }
 
-nlohmann::ordered_json ratio_json(const std::string& engine, const std::string& scene, int bodies,
-                                  const std::string& metric, double a, double b, double ratio, double ci_low,
-                                  double ci_high, std::optional<double> p_value) {
-  return {{"engine", engine}, {"scene", scene},     {"bodies", bodies},   {"metric", metric},
-          {"a", a},           {"b", b},             {"ratio", ratio},     {"ci_low", ci_low},
-          {"ci_high", ci_high}, {"p_value", p_value ? nlohmann::ordered_json(*p_value) : nlohmann::ordered_json()}};
-}
-
 std::string base_engine(const std::string& engine) { return engine.substr(0, engine.find('@')); }
 
 // --- the judgement --------------------------------------------------------------------------------

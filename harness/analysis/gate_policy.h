@@ -116,12 +116,6 @@ GateReport judge(const nlohmann::json& compare, const std::string& label, const 
 // night. Throws InputError.
 GateReport judge_files(const std::vector<std::string>& compare_paths, const Policy& policy);
 
-// The fields a gate row and a history row share, as JSON: engine, scene, bodies, metric, a, b,
-// ratio, ci_low, ci_high and p_value (null for an exact row).
-nlohmann::ordered_json ratio_json(const std::string& engine, const std::string& scene, int bodies,
-                                  const std::string& metric, double a, double b, double ratio, double ci_low,
-                                  double ci_high, std::optional<double> p_value);
-
 // The engine without the build label that `fx2d-bench ab` appends ("fx2d@B" -> "fx2d").
 std::string base_engine(const std::string& engine);
 

@@ -22,6 +22,7 @@
 #include "commands/commands.h"
 #include "common/errors.h"
 #include "common/number_text.h"
+#include "format/gate_format.h"
 #include "format/text_table.h"
 #include "measure/interrupt.h"
 #include "storage/history_h5.h"

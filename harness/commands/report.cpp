@@ -26,8 +26,8 @@
 #include "analysis/compare.h"
 #include "commands/commands.h"
 #include "common/bounded_read.h"
+#include "common/child_process.h"
 #include "common/errors.h"
-#include "measure/child_process.h"
 #include "storage/file_integrity.h"
 #include "storage/results_h5.h"
 

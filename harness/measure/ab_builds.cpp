@@ -17,9 +17,9 @@
 #include <thread>
 #include <vector>
 
+#include "common/child_process.h"
 #include "common/errors.h"
 #include "common/hash.h"
-#include "measure/child_process.h"
 
 namespace fxbench {
 namespace {

@@ -14,8 +14,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/child_process.h"
 #include "common/errors.h"
-#include "measure/child_process.h"
 #include "measure/interrupt.h"
 
 namespace fxbench {

@@ -11,11 +11,10 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string_view>
 
+#include "common/bounded_read.h"
 #include "common/errors.h"
 #include "common/hash.h"
 #include "scene/json_reader.h"
@@ -173,20 +172,10 @@ SceneSpec load_scene_text(const std::string& text, const std::string& origin,
 
 SceneSpec load_scene_file(const std::string& path, const SceneOverrides& overrides) {
   if (std::filesystem::is_directory(path)) throw InputError(path + ": cannot open: " + std::strerror(EISDIR));
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError(path + ": cannot open: " + std::strerror(errno));
   // Scenes are compact (generators, not body lists of millions); a larger file is not a scene,
   // and parsing one can cost gigabytes first.
-  constexpr std::uintmax_t max_scene_bytes = 16u << 20;
-  std::error_code size_error;
-  const std::uintmax_t size = std::filesystem::file_size(path, size_error);
-  if (!size_error && size > max_scene_bytes) {
-    throw InputError(path + ": " + std::to_string(size) + " bytes, expected a scene file of at most 16 MiB");
-  }
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw InputError(path + ": cannot read: " + std::strerror(errno));
-  SceneSpec spec = load_scene_text(text.str(), path, overrides);
+  const std::string text = read_bounded_file(path, "a scene file");
+  SceneSpec spec = load_scene_text(text, path, overrides);
   spec.source_path = path;
   return spec;
 }

@@ -71,7 +71,7 @@ struct TimedSeries {
   const char* units;
 };
 inline constexpr TimedSeries run_times[] = {{"wall_ms", &RunRecord::wall_ms, "ms"},
-                                     {"cpu_ms", &RunRecord::cpu_ms, "ms"}};
+                                            {"cpu_ms", &RunRecord::cpu_ms, "ms"}};
 inline constexpr const char* cycles_units = "cycles";
 
 // A run counted with --counter instructions has one scalar dataset more, with its provenance.

@@ -1,7 +1,7 @@
 // Tests of the child-process helper behind `ab` builds, --counter instructions and `report`: the
 // exit status, a program that cannot start, a signal, streams sent to the descriptors given, and
 // a wait that outlasts signals delivered to this process.
-#include "measure/child_process.h"
+#include "common/child_process.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>

@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "measure/child_process.h"
+#include "common/child_process.h"
 
 namespace fxbench {
 namespace {

@@ -1,5 +1,5 @@
 // Children by posix_spawnp; the contracts are in child_process.h.
-#include "measure/child_process.h"
+#include "common/child_process.h"
 
 #include <spawn.h>
 #include <sys/wait.h>
