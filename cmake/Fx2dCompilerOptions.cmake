@@ -7,9 +7,22 @@ set(CMAKE_CXX_STANDARD_REQUIRED ON)
 set(CMAKE_CXX_EXTENSIONS OFF)
 set(CMAKE_POSITION_INDEPENDENT_CODE ON)
 
+if(FX2D_LTO)
+  include(CheckIPOSupported)
+  check_ipo_supported(RESULT fx2d_lto_supported OUTPUT fx2d_lto_output LANGUAGES CXX)
+  if(NOT fx2d_lto_supported)
+    message(FATAL_ERROR "FX2D_LTO: this compiler cannot optimise at link time: ${fx2d_lto_output}")
+  endif()
+  set(CMAKE_INTERPROCEDURAL_OPTIMIZATION ON)
+endif()
+
 add_library(fx2d_warnings INTERFACE)
 target_compile_options(fx2d_warnings INTERFACE
   $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion -Werror>)
+# With link-time optimisation the compiler warns again while it optimises at the link.
+if(FX2D_LTO)
+  target_link_options(fx2d_warnings INTERFACE $<$<CXX_COMPILER_ID:GNU,Clang>:-Werror>)
+endif()
 
 if(FX2D_SANITIZE)
   set(fx2d_sanitize_flags -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)

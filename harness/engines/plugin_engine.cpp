@@ -1,7 +1,12 @@
 // Plugin loading and the Engine over a plugin table; invariants in plugin_engine.h.
 #include "engines/plugin_engine.h"
 
+#ifdef _WIN32
+#define WIN32_LEAN_AND_MEAN
+#include <windows.h>
+#else
 #include <dlfcn.h>
+#endif
 
 #include <filesystem>
 #include <stdexcept>
@@ -12,6 +17,22 @@
 
 namespace fxbench {
 namespace {
+
+// The platform's loader: dlopen on POSIX, LoadLibrary on Windows (ci/cross-mingw's build), where
+// every DLL keeps its symbols to itself as RTLD_LOCAL does.
+#ifdef _WIN32
+void* open_library(const std::string& path) { return LoadLibraryA(path.c_str()); }
+void* find_symbol(void* library, const char* name) {
+  return reinterpret_cast<void*>(GetProcAddress(static_cast<HMODULE>(library), name));
+}
+void close_library(void* library) { FreeLibrary(static_cast<HMODULE>(library)); }
+std::string loader_error() { return "Windows error " + std::to_string(GetLastError()); }
+#else
+void* open_library(const std::string& path) { return dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL); }
+void* find_symbol(void* library, const char* name) { return dlsym(library, name); }
+void close_library(void* library) { dlclose(library); }
+std::string loader_error() { return dlerror(); }
+#endif
 
 Fx2dBenchVec2 to_c(Vec2 v) { return {v.x, v.y}; }
 
@@ -142,13 +163,13 @@ class PluginEngine final : public Engine {
 std::shared_ptr<const Plugin> Plugin::load(const std::string& path) {
   const std::string absolute = std::filesystem::absolute(path).lexically_normal().string();
   if (!std::filesystem::is_regular_file(absolute)) throw InputError("plugin " + path + ": no such file");
-  void* library = dlopen(absolute.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (library == nullptr) throw InputError("plugin " + path + ": cannot load: " + dlerror());
+  void* library = open_library(absolute);
+  if (library == nullptr) throw InputError("plugin " + path + ": cannot load: " + loader_error());
   const auto close_and_fail = [&](const std::string& message) {
-    dlclose(library);
+    close_library(library);
     throw InputError("plugin " + path + ": " + message);
   };
-  void* entry = dlsym(library, FX2D_BENCH_PLUGIN_ENTRY);
+  void* entry = find_symbol(library, FX2D_BENCH_PLUGIN_ENTRY);
   if (entry == nullptr) close_and_fail("not an fx2d-bench plugin (no " FX2D_BENCH_PLUGIN_ENTRY " symbol)");
   const Fx2dBenchPluginV1* table = reinterpret_cast<Fx2dBenchPluginEntry>(entry)();
   if (table == nullptr) close_and_fail(FX2D_BENCH_PLUGIN_ENTRY " returned no table");
@@ -164,7 +185,7 @@ std::shared_ptr<const Plugin> Plugin::linked(const Fx2dBenchPluginV1& table) {
 }
 
 Plugin::~Plugin() {
-  if (library_ != nullptr) dlclose(library_);
+  if (library_ != nullptr) close_library(library_);
 }
 
 std::string Plugin::version() const {

@@ -227,10 +227,10 @@ TEST(Motion, EscapedAndNonFiniteBodiesAreCountedAndKeptOutOfOtherFigures) {
 TEST(Probe, MeasureAllocatesNothing) {
   const SceneSpec scene = grid_with_one_overlap(20, 20, 7);
   const std::vector<BodyState> states = poses_of(scene);
-  const long before_construction = test::heap_allocations.load();
+  const long long before_construction = test::heap_allocations.load();
   AccuracyProbe probe(scene, states);
   EXPECT_GT(test::heap_allocations.load(), before_construction);  // the counter does see the probe's scratch
-  const long before = test::heap_allocations.load();
+  const long long before = test::heap_allocations.load();
   double depth = 0.0;
   for (int step = 1; step <= 3; ++step) depth += probe.measure(step, states).max_penetration;
   EXPECT_EQ(test::heap_allocations.load() - before, 0);
