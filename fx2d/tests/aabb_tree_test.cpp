@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "aabb_tree.h"
+#include "collision/aabb_tree.h"
 
 namespace fx2d::detail {
 namespace {

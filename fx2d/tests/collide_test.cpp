@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "collide.h"
+#include "collision/collide.h"
 
 namespace fx2d::detail {
 namespace {

@@ -6,8 +6,8 @@
 #include <set>
 #include <vector>
 
-#include "contact_graph.h"
-#include "contact_solver.h"
+#include "solver/contact_graph.h"
+#include "solver/contact_solver.h"
 
 namespace fx2d::detail {
 namespace {

@@ -1,6 +1,6 @@
 // Where a step's time went: one timer per stage function of FxScene::step().
 //
-// Each stage is one function of the step (see src/scene.cpp), so a phase in a result file names
+// Each stage is one function of the step (see src/world/scene.cpp), so a phase in a result file names
 // code a reader can open. Cycles come from the time-stamp counter (reference cycles, not core
 // cycles) read where the step changes stage, once per change; milliseconds are the step's
 // wall-clock time shared out in proportion to cycles, which costs one clock read per step instead

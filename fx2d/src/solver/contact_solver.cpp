@@ -1,13 +1,13 @@
 // Contact constraints built from the cache for one step, and the parts solved contact by contact
 // (contact_solver.h): restitution after the substeps, the position projection, and the storage of
 // impulses for the next step's warm start.
-#include "contact_solver.h"
+#include "solver/contact_solver.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "bodies.h"
-#include "contact_cache.h"
+#include "world/bodies.h"
+#include "collision/contact_cache.h"
 
 namespace fx2d::detail {
 namespace {

@@ -22,9 +22,9 @@
 #include <span>
 #include <vector>
 
-#include "contact_graph.h"
-#include "contact_solver.h"
-#include "lane_rows.h"
+#include "solver/contact_graph.h"
+#include "solver/contact_solver.h"
+#include "solver/lane_rows.h"
 
 namespace fx2d::detail {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include "world.h"
+#include "world/world.h"
 
 namespace fx2d {
 

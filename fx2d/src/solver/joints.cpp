@@ -5,7 +5,7 @@
 #include <string>
 
 #include "fx2d/Constraint.h"
-#include "bodies.h"
+#include "world/bodies.h"
 
 namespace fx2d {
 namespace {

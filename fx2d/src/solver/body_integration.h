@@ -17,7 +17,7 @@
 
 #include "fx2d/Constraint.h"
 #include "fx2d/Math.h"
-#include "speed_limits.h"
+#include "world/speed_limits.h"
 
 namespace fx2d::detail {
 

@@ -1,12 +1,12 @@
 // The solver's stages of a step (solver_stages.h). Collision runs once per step and substeps stay
 // cheap: contact anchors are fixed for the step and separations are updated from each body's
 // accumulated displacement.
-#include "solver_stages.h"
+#include "solver/solver_stages.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "step_context.h"
+#include "world/step_context.h"
 
 namespace fx2d::detail {
 namespace {

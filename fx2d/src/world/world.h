@@ -7,15 +7,15 @@
 #include <functional>
 #include <memory>
 
-#include "bodies.h"
-#include "broad_phase.h"
-#include "contact_cache.h"
+#include "world/bodies.h"
+#include "collision/broad_phase.h"
+#include "collision/contact_cache.h"
 #include "fx2d/Constraint.h"
 #include "fx2d/Entity.h"
 #include "fx2d/Profile.h"
 #include "fx2d/Scene.h"
-#include "sleep.h"
-#include "solver_stages.h"
+#include "world/sleep.h"
+#include "solver/solver_stages.h"
 
 namespace fx2d::detail {
 

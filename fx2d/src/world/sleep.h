@@ -5,8 +5,8 @@
 #include <span>
 #include <vector>
 
-#include "bodies.h"
-#include "contact_cache.h"
+#include "world/bodies.h"
+#include "collision/contact_cache.h"
 
 namespace fx2d::detail {
 

@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "aabb_tree.h"
-#include "bodies.h"
-#include "contact_cache.h"
+#include "collision/aabb_tree.h"
+#include "world/bodies.h"
+#include "collision/contact_cache.h"
 
 namespace fx2d::detail {
 

@@ -12,10 +12,10 @@
 #include <memory>
 #include <vector>
 
-#include "aabb_tree.h"
+#include "collision/aabb_tree.h"
 #include "fx2d/Constraint.h"
 #include "fx2d/Entity.h"
-#include "speed_limits.h"
+#include "world/speed_limits.h"
 
 namespace fx2d::detail {
 

@@ -1,6 +1,6 @@
 // The contact cache's slots, free list and per-body edge lists (contact_cache.h), and the carrying
 // of impulses from one manifold to the next by feature id.
-#include "contact_cache.h"
+#include "collision/contact_cache.h"
 
 namespace fx2d::detail {
 

@@ -3,11 +3,11 @@
 // Islands are found afresh each step with a union-find over the packed arrays, whose roots are
 // the lowest packed index of each island, so the result depends only on the state, not on history.
 // A sleeping body remembers its island's root in sleep_island; waking one wakes them all.
-#include "sleep.h"
+#include "world/sleep.h"
 
 #include <algorithm>
 
-#include "step_context.h"
+#include "world/step_context.h"
 
 namespace fx2d::detail {
 namespace {

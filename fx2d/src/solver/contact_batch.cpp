@@ -2,7 +2,7 @@
 // the arithmetic of one lane (solve_lane, warm start, separation update), the sweeps that run it
 // over a batch's lanes as vectorisable loops or lane by lane (the scalar twin, and the overflow),
 // and pack()/unpack(), which move the constraints in and out of their columns.
-#include "contact_batch.h"
+#include "solver/contact_batch.h"
 
 #include <algorithm>
 

@@ -14,7 +14,7 @@
 // to the first child, so the same operations build the same tree. rebuild() replaces all internal
 // nodes at once, for steps in which most leaves move: the broad phase sorts the pairs it finds, so
 // no result depends on the tree's shape.
-#include "aabb_tree.h"
+#include "collision/aabb_tree.h"
 
 #include <bit>
 

@@ -2,13 +2,13 @@
 // Pairs whose fat boxes separated are destroyed; a pair that begins touching a sleeping body
 // wakes it. Each pair is collided in a frame centred on body a's origin, built from the precise
 // (carried) positions, so coordinates stay small however far the pair is from the world origin.
-#include "narrow_phase.h"
+#include "collision/narrow_phase.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "sleep.h"
-#include "step_context.h"
+#include "world/sleep.h"
+#include "world/step_context.h"
 
 namespace fx2d::detail {
 namespace {

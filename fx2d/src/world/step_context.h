@@ -8,11 +8,11 @@
 
 #include <cstdint>
 
-#include "body_integration.h"
-#include "contact_solver.h"
+#include "solver/body_integration.h"
+#include "solver/contact_solver.h"
 #include "fx2d/Constraint.h"
 #include "fx2d/Scene.h"
-#include "profile_timer.h"
+#include "world/profile_timer.h"
 
 namespace fx2d::detail {
 

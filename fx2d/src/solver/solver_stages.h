@@ -11,13 +11,13 @@
 #include <cstdint>
 #include <vector>
 
-#include "bodies.h"
-#include "body_integration.h"
-#include "broad_phase.h"
-#include "contact_batch.h"
-#include "contact_cache.h"
-#include "contact_graph.h"
-#include "contact_solver.h"
+#include "world/bodies.h"
+#include "solver/body_integration.h"
+#include "collision/broad_phase.h"
+#include "solver/contact_batch.h"
+#include "collision/contact_cache.h"
+#include "solver/contact_graph.h"
+#include "solver/contact_solver.h"
 
 namespace fx2d::detail {
 

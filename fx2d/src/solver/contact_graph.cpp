@@ -1,10 +1,10 @@
 // Greedy colouring of the step's contact constraints (contact_graph.h): per colour a bitset over
 // the bodies it already holds; the constraints are then listed colour by colour, overflow last.
-#include "contact_graph.h"
+#include "solver/contact_graph.h"
 
 #include <algorithm>
 
-#include "contact_solver.h"
+#include "solver/contact_solver.h"
 
 namespace fx2d::detail {
 

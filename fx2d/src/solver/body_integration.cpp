@@ -1,11 +1,11 @@
 // The substep's body loops (body_integration.h): each group of eight bodies is gathered into lane
 // columns, integrated as one loop the compiler vectorises, and scattered back; the rare lane over
 // the speed limit is slowed by the scalar slowed_to(), defined here too.
-#include "body_integration.h"
+#include "solver/body_integration.h"
 
 #include <cmath>
 
-#include "lane_rows.h"
+#include "solver/lane_rows.h"
 
 namespace fx2d::detail {
 

@@ -23,9 +23,9 @@
 #include <cmath>
 #include <string>
 
-#include "narrow_phase.h"
-#include "step_context.h"
-#include "world.h"
+#include "collision/narrow_phase.h"
+#include "world/step_context.h"
+#include "world/world.h"
 
 namespace fx2d::detail {
 namespace {

@@ -2,12 +2,12 @@
 // overlap. Runs once per step. A proxy's fat box is its tight box enlarged by a margin and swept
 // by a few steps of its motion, so a body that moves a little, or moves steadily, stays inside it
 // and is not reinserted; only bodies whose tight box left their fat box are searched for new pairs.
-#include "broad_phase.h"
+#include "collision/broad_phase.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "step_context.h"
+#include "world/step_context.h"
 
 namespace fx2d::detail {
 namespace {

@@ -8,7 +8,7 @@
 // breaks ties by the lowest index, so the same input gives the same manifold bit for bit; the two
 // points of a manifold carry distinct feature ids, and the same touching features give the same
 // ids from one step to the next. Nothing here allocates.
-#include "collide.h"
+#include "collision/collide.h"
 
 #include <array>
 #include <limits>

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "collide.h"
+#include "collision/collide.h"
 
 namespace fx2d::detail {
 
