@@ -90,14 +90,17 @@ template <int Points, bool UseBias>
   }
   // Read unconditionally, so the selects below need no conditional loads.
   const float bias_rate = p.softness.bias_rate, soft_mass_scale = p.softness.mass_scale;
-  const float soft_impulse_scale = p.softness.impulse_scale, max_push = p.max_push_speed, inv_h = p.inv_substep_dt;
+  const float soft_impulse_scale = p.softness.impulse_scale, slop = p.linear_slop, inv_h = p.inv_substep_dt;
   float normal_applied[Points], tangent_applied[Points];
   for (int i = 0; i < Points; ++i) {
     const float separation = k.point[i].separation[lane];
     const bool speculative = separation > 0.0f;
     const bool soft = UseBias && !speculative;
-    const float push = max_of(bias_rate * separation, -max_push);
-    const float bias = speculative ? separation * inv_h : (soft ? push : 0.0f);
+    // The soft spring pushes out only the overlap within the slop: pushed through the velocities,
+    // pushes add up down a column, and what the relaxation passes fail to take out again launches
+    // it. Deeper overlap is push()'s.
+    const float spring = bias_rate * max_of(separation, -slop);
+    const float bias = speculative ? separation * inv_h : (soft ? spring : 0.0f);
     const float mass_scale = soft ? soft_mass_scale : 1.0f;
     const float impulse_scale = soft ? soft_impulse_scale : 0.0f;
 
@@ -128,6 +131,48 @@ template <int Points, bool UseBias>
   for (int i = 0; i < Points; ++i) {
     apply_normal(k, r, i, lane, a, b, normal_applied[i]);
     apply_tangent(k, r, i, lane, a, b, tangent_applied[i]);
+  }
+}
+
+// One pass that pushes overlaps apart, after the soft passes and before the positions move: each
+// point deeper than the slop gets the impulse that separates it at the soft contact's rate, at
+// most max_push_speed. The impulse is recorded, kept out of the accumulated impulse, and taken back
+// once the positions have moved (take_back_push_lane), so the push moves bodies but launches
+// none. Pushed through velocities and taken out by relaxation passes instead, pushes add up down
+// a column (the top of a column of n overlaps moves at n times the push), and a Gauss-Seidel pass
+// removes them one contact at a time: n passes before the column is back at rest.
+template <int Points>
+[[gnu::always_inline]] inline void push_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
+                                             const ContactSolveParams& p) {
+  const PointRows r = rows_of(k, lane);
+  float normal_speed[Points];
+  for (int i = 0; i < Points; ++i) {
+    normal_speed[i] =
+        relative_speed(a, b, r.nx, r.ny, k.point[i].arm_normal_a[lane], k.point[i].arm_normal_b[lane]);
+  }
+  const float bias_rate = p.softness.bias_rate, max_push = p.max_push_speed, slop = p.linear_slop;
+  float pushed[Points];
+  for (int i = 0; i < Points; ++i) {
+    const float separation = k.point[i].separation[lane];
+    const float push_speed = min_of(-bias_rate * separation, max_push);
+    float vn = normal_speed[i];
+    if (i == 1) vn += pushed[0] * k.normal1_from_normal0[lane];
+    const float wanted = max_of(k.point[i].normal_mass[lane] * (push_speed - vn), 0.0f);
+    // Within the slop the soft passes' spring has pushed already (solve_lane).
+    pushed[i] = separation < -slop ? wanted : 0.0f;
+    k.point[i].push_impulse[lane] = pushed[i];
+  }
+  for (int i = 0; i < Points; ++i) apply_normal(k, r, i, lane, a, b, pushed[i]);
+}
+
+// Takes back what push_lane applied: exact in one sweep whatever the order, since each contact
+// subtracts its own recorded impulse.
+template <int Points>
+[[gnu::always_inline]] inline void take_back_push_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
+                                                       const ContactSolveParams&) {
+  const PointRows r = rows_of(k, lane);
+  for (int i = 0; i < Points; ++i) {
+    apply_normal(k, r, i, lane, a, b, -k.point[i].push_impulse[lane]);
   }
 }
 
@@ -207,8 +252,9 @@ template <LaneFn LaneSolve, int Count>
   LaneVelocities first, second;
   gather_velocities(k[0], states, first);
   if constexpr (Count == 2) gather_velocities(k[1], states, second);
-  // check-vectorized(12): the lane loop below, in all twelve instantiations (warm start and
-  // solve with and without bias, one and two points, one and two batches), must be vectorised
+  // check-vectorized(20): the lane loop below, in all twenty instantiations (warm start, solve
+  // with and without softness, the push and its take-back; one and two points, one and two
+  // batches), must be vectorised
   for (int lane = 0; lane < lane_count; ++lane) {
     solve_lane_of<LaneSolve>(k[0], first, lane, p);
     if constexpr (Count == 2) solve_lane_of<LaneSolve>(k[1], second, lane, p);
@@ -287,6 +333,16 @@ template <LaneFn OnePoint, LaneFn TwoPoints>
 FX2D_LANE_KERNEL void warm_start_runs(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
                                       bool scalar) {
   sweep<&warm_start_lane<1>, &warm_start_lane<2>>(runs, batches, states, {}, scalar);
+}
+
+FX2D_LANE_KERNEL void push_runs(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
+                                const ContactSolveParams& params, bool scalar) {
+  sweep<&push_lane<1>, &push_lane<2>>(runs, batches, states, params, scalar);
+}
+
+FX2D_LANE_KERNEL void take_back_push_runs(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
+                                          bool scalar) {
+  sweep<&take_back_push_lane<1>, &take_back_push_lane<2>>(runs, batches, states, {}, scalar);
 }
 
 FX2D_LANE_KERNEL void update_run_separations(std::span<const BatchRun> runs, ContactBatch* batches,
@@ -382,6 +438,7 @@ void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, st
         column.normal_impulse[lane] = cp.normal_impulse;
         column.tangent_impulse[lane] = cp.tangent_impulse;
         column.max_normal_impulse[lane] = 0.0f;
+        column.push_impulse[lane] = 0.0f;
         column.arm_normal_a[lane] = cross(cp.anchor_a, c.normal);
         column.arm_normal_b[lane] = cross(cp.anchor_b, c.normal);
         column.arm_tangent_a[lane] = cross(cp.anchor_a, tangent);
@@ -416,6 +473,14 @@ void ContactBatches::pack(std::span<const ContactConstraint> constraints, const 
 
 void ContactBatches::warm_start(std::span<FxBodyState> states, bool scalar) {
   warm_start_runs(runs_, batches_.data(), states.data(), scalar);
+}
+
+void ContactBatches::push(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar) {
+  push_runs(runs_, batches_.data(), states.data(), params, scalar);
+}
+
+void ContactBatches::take_back_push(std::span<FxBodyState> states, bool scalar) {
+  take_back_push_runs(runs_, batches_.data(), states.data(), scalar);
 }
 
 void ContactBatches::update_separations(std::span<const FxBodyState> states) {

@@ -48,6 +48,9 @@ struct ContactSolveParams {
   FxSoftness softness;
   float inv_substep_dt = 0;
   float max_push_speed = 0;
+  // The depth of overlap the soft passes push out through the velocities; push() takes what lies
+  // deeper out through the positions only.
+  float linear_slop = 0;
 };
 
 class ContactSolver {

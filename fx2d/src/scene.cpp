@@ -8,9 +8,9 @@
 //                    solve_substeps()         per substep:
 //   integrate          integrate_velocities()   gravity, forces, damping
 //   warm_start         warm_start()             the accumulated impulses
-//   solve              solve()                  velocity passes that push overlaps apart
+//   solve              solve()                  soft velocity passes, then the push of deep overlaps
 //   integrate          integrate_positions()
-//   relax              relax()                  passes that take the push velocity out again
+//   relax              relax()                  take the push back, rigid passes
 //   restitution      apply_restitution()
 //   position_solve   solve_positions()        project remaining deep overlaps
 //   integrate        finalize_bodies()        write poses back with carries, refresh boxes
@@ -73,7 +73,7 @@ StepContext::StepContext(const FxSceneSettings& s, std::uint32_t bodies, StageCl
       max_acceleration(2.0f * s.max_linear_speed / substep_dt),
       limits{s.max_linear_speed, max_angular_speed(s)},
       contact{make_softness(capped_hertz(s.contact_hertz, substep_dt), s.contact_damping_ratio, substep_dt),
-              1.0f / substep_dt, s.max_push_speed},
+              1.0f / substep_dt, s.max_push_speed, s.linear_slop},
       joint_softness(make_softness(capped_hertz(s.joint_hertz, substep_dt), s.joint_damping_ratio, substep_dt)),
       body_count(bodies),
       clock(stage_clock) {}

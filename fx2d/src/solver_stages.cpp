@@ -124,6 +124,7 @@ class Substep {
 
   void solve() {
     for (int pass = 0; pass < step_.settings.velocity_passes; ++pass) velocity_pass(FxStage::solve, true);
+    solver_.contact_batches.push(solver_.states, step_.contact, step_.settings.force_scalar_solver);
   }
 
   void integrate_positions() {
@@ -136,6 +137,7 @@ class Substep {
   void relax() {
     step_.clock.switch_to(FxStage::relax);
     solver_.contact_batches.update_separations(solver_.states);
+    solver_.contact_batches.take_back_push(solver_.states, step_.settings.force_scalar_solver);
     for (int pass = 0; pass < step_.settings.relax_passes; ++pass) velocity_pass(FxStage::relax, false);
   }
 
