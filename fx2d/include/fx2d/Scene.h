@@ -26,9 +26,9 @@ struct FxSceneSettings {
   float dt = 1.0f / 60.0f;             // seconds per step, in [1e-6, 1]
   int substeps = 14;                   // >= 1
   int velocity_passes = 4;             // >= 1, soft passes per substep that also push overlaps apart
-  // >= 1, rigid passes per substep once positions have moved, which take out what the soft
-  // passes' spring added to the velocities. Overlaps deeper than linear_slop are pushed apart
-  // through the positions alone, so no number of passes launches a column of overlapping bodies.
+  // >= 1, rigid passes per substep after the positions move, taking out the soft spring's velocity
+  // (deeper overlap is pushed through the positions, so one pass launches nothing). Fewer than four
+  // leave settling_boxes 3000 over 120 mm deep, past issue 19's 70 mm ceiling (four: 64 mm).
   int relax_passes = 4;
   int position_passes = 1;             // >= 0, final projection passes per step
   bool sleeping = true;                // let resting bodies sleep
