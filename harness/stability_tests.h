@@ -103,9 +103,10 @@ Verdict slides_as_coulomb_predicts(const SceneSpec& scene, const Trajectory& tra
 Verdict recovers_from_overlap(const SceneSpec& scene, const Trajectory& trajectory, double max_upward_speed,
                               double max_final_penetration);
 
-// Tunnelling: no dynamic body may end up on the other side of the x = wall.x line of the first
-// static body (the wall) from where it started, at any sample.
-Verdict stays_before_wall(const SceneSpec& scene, const Trajectory& trajectory);
+// Tunnelling: no dynamic body may end up, at any sample, on the other side of the first static
+// body's mid-plane across its thinner side (x = its x for a wall, taller than wide; y = its y for
+// a floor) from where it started. That body must be a box.
+Verdict stays_on_its_side(const SceneSpec& scene, const Trajectory& trajectory);
 
 // Joint gap: at every sample, the two world anchors of every joint lie within `max_gap` metres.
 Verdict joints_hold(const SceneSpec& scene, const Trajectory& trajectory, double max_gap);
