@@ -84,12 +84,16 @@ TestResult search_test(const StabilityOptions& options, const EngineInfo& engine
     outcome.overrides.push_back(assignments_text(test.overrides(parameter)));
     const SceneSpec scene = load_test_scene(test, options.suite_dir, sets, parameter);
     if (outcome.settings.empty()) outcome.settings = nlohmann::json::parse(scene.resolved_json)["solver"][engine.solver].dump();
-    // A stress the engine cannot even build (Fx2D's speed limit on thin_wall) is where it stops holding.
+    // A stress the engine cannot build that the test's engine_limit does not foresee is where it
+    // stops holding.
     if (const std::optional<std::string> missing = missing_capability(engine.capabilities, scene))
       return Verdict{false, engine.name + " cannot build " + *missing};
     return test.judge(scene, simulate(scene, engine, test.sample_every));
   };
+  const bool capped = test.engine_limit && test.engine_limit(engine.capabilities) < outcome.search.limit;
+  if (capped) outcome.search.limit = test.engine_limit(engine.capabilities);
   outcome.result = find_boundary(outcome.search, evaluate);
+  if (capped && outcome.result.outcome == Outcome::holds_to_limit) outcome.result.outcome = Outcome::engine_limit;
   return outcome;
 }
 
@@ -114,6 +118,7 @@ std::string cell(const TestResult& outcome) {
     case Outcome::boundary: return value_text(*outcome.result.last_pass);
     case Outcome::holds_to_limit: return (increasing ? ">= " : "<= ") + value_text(outcome.search.limit) + " (limit)";
     case Outcome::fails_at_start: return "fails at " + value_text(outcome.search.start);
+    case Outcome::engine_limit: return "engine limit at " + value_text(outcome.search.limit);
   }
   return {};
 }

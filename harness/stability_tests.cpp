@@ -139,19 +139,22 @@ Verdict cards_stand(const SceneSpec& scene, const Trajectory& trajectory) {
   return stays_in_place(scene, trajectory, card_max_move, card_max_turn);
 }
 
+// The speed tests stop at the fastest body an engine builds.
+double accepted_speed(const EngineCapabilities& capabilities) { return capabilities.max_linear_speed; }
+
 std::vector<StabilityTest> make_suite() {
   const auto degrees = std::numbers::pi / 180.0;
   return {
       {"vertical_stack", "height", "boxes", "a box moves 0.5 m or turns 0.5 rad, or the top sinks 1% of the height, within 10 s",
        {4, 128, 1, Harder::increasing, Scale::linear, true}, 32, 10,
-       [](double height) { return set("/size", static_cast<int>(height)); }, tower},
+       [](double height) { return set("/size", static_cast<int>(height)); }, tower, nullptr},
       {"pyramid", "base width", "boxes", "a box moves 0.5 m or turns 0.5 rad, or the apex sinks 1% of the height, within 5 s",
        {4, 48, 1, Harder::increasing, Scale::linear, true}, 16, 10,
-       [](double base) { return pyramid_rows(static_cast<int>(base), 0.0); }, tower},
+       [](double base) { return pyramid_rows(static_cast<int>(base), 0.0); }, tower, nullptr},
       {"mass_ratio", "mass ratio", "heavy/light", "any box moves 0.1 m or turns 0.1 rad within 3 s (crushed through or pushed out)",
        {1, 10000, 0.1, Harder::increasing, Scale::geometric, false}, 1000, 10,
        // The heavy box has 5 times a light box's area.
-       [](double ratio) { return set("/bodies/2/material/density", ratio / 5.0); }, at_rest},
+       [](double ratio) { return set("/bodies/2/material/density", ratio / 5.0); }, at_rest, nullptr},
       {"friction_ramp", "slope angle", "degrees", "a box above the friction angle slides, or one below it misses g (sin a - mu cos a) by 5%",
        {5, 40, 0.5, Harder::increasing, Scale::linear, false}, 40, 10,
        [degrees](double angle) {
@@ -159,35 +162,38 @@ std::vector<StabilityTest> make_suite() {
        },
        [](const SceneSpec& scene, const Trajectory& trajectory) {
          return slides_as_coulomb_predicts(scene, trajectory, RampTolerances{});
-       }},
+       },
+       nullptr},
       {"overlap_recovery", "overlap", "fraction of a box", "a box is thrown upward faster than 3 m/s, or an overlap deeper than 2 cm remains after 2 s",
        {0.02, 0.5, 0.01, Harder::increasing, Scale::linear, false}, 0.32, 1,
        [](double overlap) { return pyramid_rows(overlap_pyramid_base, overlap); },
        [](const SceneSpec& scene, const Trajectory& trajectory) {
          return recovers_from_overlap(scene, trajectory, launch_speed, resolved_depth);
-       }},
+       },
+       nullptr},
       {"thin_wall", "speed", "m/s", "the circle ends up beyond the wall's mid-plane (tunnelled)",
        {5, 1000, 0.05, Harder::increasing, Scale::geometric, false}, 200, 1,
-       [](double speed) { return set("/bodies/1/velocity", {speed, 0.0}); }, stays_on_its_side},
+       [](double speed) { return set("/bodies/1/velocity", {speed, 0.0}); }, stays_on_its_side, accepted_speed},
       // The fast-body tests: each starts far beyond what a broad phase's fat box covers, so only
       // continuous collision (a time of impact) keeps the body on its side.
       {"far_start", "speed", "m/s", "the circle, 60 m away at the start, ends up beyond the wall's mid-plane",
        {100, 1000, 0.05, Harder::increasing, Scale::geometric, false}, 200, 1,
-       [](double speed) { return set("/bodies/1/velocity", {speed, 0.0}); }, stays_on_its_side},
+       [](double speed) { return set("/bodies/1/velocity", {speed, 0.0}); }, stays_on_its_side, accepted_speed},
       {"spinning_plank", "speed", "m/s", "the spinning plank's centre ends up beyond the wall's mid-plane",
        {50, 1000, 0.05, Harder::increasing, Scale::geometric, false}, 200, 1,
-       [](double speed) { return set("/bodies/1/velocity", {speed, 0.0}); }, stays_on_its_side},
+       [](double speed) { return set("/bodies/1/velocity", {speed, 0.0}); }, stays_on_its_side, accepted_speed},
       {"thin_floor", "speed", "m/s", "the small box ends up below the thin floor's mid-plane",
        {50, 1000, 0.05, Harder::increasing, Scale::geometric, false}, 200, 1,
-       [](double speed) { return set("/bodies/1/velocity", {0.0, -speed}); }, stays_on_its_side},
+       [](double speed) { return set("/bodies/1/velocity", {0.0, -speed}); }, stays_on_its_side, accepted_speed},
       {"card_house", "friction", "coefficient", "any card moves 0.25 m or turns 0.35 rad within 3 s",
        {1, 0.01, 0.01, Harder::decreasing, Scale::linear, false}, 0.05, 10,
-       [](double friction) { return set("/material/friction", friction); }, cards_stand},
+       [](double friction) { return set("/material/friction", friction); }, cards_stand, nullptr},
       {"chain_load", "load ratio", "load/link", "a joint's anchors drift 0.1 m apart within 3 s",
        {1, 10000, 0.1, Harder::increasing, Scale::geometric, false}, 1000, 10,
        // The load has a link's area, so its density is the ratio.
        [](double ratio) { return set("/bodies/9/material/density", ratio); },
-       [](const SceneSpec& scene, const Trajectory& trajectory) { return joints_hold(scene, trajectory, chain_max_gap); }},
+       [](const SceneSpec& scene, const Trajectory& trajectory) { return joints_hold(scene, trajectory, chain_max_gap); },
+       nullptr},
   };
 }
 
@@ -198,6 +204,7 @@ std::string to_string(Outcome outcome) {
     case Outcome::boundary: return "boundary";
     case Outcome::holds_to_limit: return "holds_to_limit";
     case Outcome::fails_at_start: return "fails_at_start";
+    case Outcome::engine_limit: return "engine_limit";
   }
   return "boundary";
 }

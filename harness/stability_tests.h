@@ -48,9 +48,11 @@ struct Evaluation {
   Verdict verdict;
 };
 
-enum class Outcome { boundary, holds_to_limit, fails_at_start };
+// engine_limit: held up to the hardest value the engine accepts, which is below the test's limit
+// (a speed beyond the engine's maximum): set by the suite's search, never by find_boundary.
+enum class Outcome { boundary, holds_to_limit, fails_at_start, engine_limit };
 
-// "boundary", "holds_to_limit", "fails_at_start".
+// "boundary", "holds_to_limit", "fails_at_start", "engine_limit".
 std::string to_string(Outcome outcome);
 
 struct SearchResult {
@@ -124,6 +126,9 @@ struct StabilityTest {
   // The parameter as --set assignments (JSON pointer, JSON value) on the scene file.
   std::function<std::vector<std::pair<std::string, std::string>>(double)> overrides;
   std::function<Verdict(const SceneSpec&, const Trajectory&)> judge;
+  // The hardest parameter an engine accepts (increasing tests), or empty when any is: the search
+  // stops there instead of probing values the engine refuses to build.
+  std::function<double(const EngineCapabilities&)> engine_limit;
 };
 
 // The suite in its fixed order.
