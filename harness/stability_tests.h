@@ -40,7 +40,9 @@ struct SearchSpec {
 
 struct Verdict {
   bool pass = true;
-  std::string reason;  // why it failed, with the numbers; empty when it passed
+  std::string reason;        // why it failed, with the numbers; empty when it passed
+  std::string criterion;     // which check failed first, one word ("moved", "crossed", ...); empty when it passed
+  std::optional<int> step;   // the step at whose sample it failed; none when no step is to blame
 };
 
 struct Evaluation {

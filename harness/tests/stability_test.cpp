@@ -172,6 +172,9 @@ TEST(StaysOnItsSide, AFloorWiderThanTallIsCrossedDownward) {
   const Verdict verdict = stays_on_its_side(scene, from_start_to(scene, through));
   EXPECT_FALSE(verdict.pass);
   EXPECT_NE(verdict.reason.find("floor"), std::string::npos) << verdict.reason;
+  // What failed first and when: the sample at t = 1 s is step 60 of 1/60 s.
+  EXPECT_EQ(verdict.criterion, "crossed");
+  EXPECT_EQ(verdict.step, 60);
 }
 
 // ---- joints_hold ----
@@ -197,7 +200,7 @@ TEST(JointsHold, MeasuresTheGapBetweenWorldAnchors) {
 // ---- find_boundary ----
 
 std::function<Verdict(double)> passes_below(double threshold) {
-  return [threshold](double value) { return value < threshold ? Verdict{} : Verdict{false, "too hard"}; };
+  return [threshold](double value) { return value < threshold ? Verdict{} : Verdict{false, "too hard", "hard", std::nullopt}; };
 }
 
 TEST(FindBoundary, BracketsALinearThresholdToTheResolution) {
@@ -228,7 +231,7 @@ TEST(FindBoundary, FindsAnIntegerThresholdExactlyAndTriesOnlyWholeValues) {
 
 TEST(FindBoundary, SearchesDownwardWhenLowerIsHarder) {
   // A card house that needs friction 0.183: passes at or above it.
-  const auto holds = [](double friction) { return friction >= 0.183 ? Verdict{} : Verdict{false, "slid"}; };
+  const auto holds = [](double friction) { return friction >= 0.183 ? Verdict{} : Verdict{false, "slid", "slid", std::nullopt}; };
   const SearchResult result = find_boundary({1, 0.01, 0.01, Harder::decreasing, Scale::linear, false}, holds);
   ASSERT_EQ(result.outcome, Outcome::boundary);
   EXPECT_GE(*result.last_pass, 0.183);
