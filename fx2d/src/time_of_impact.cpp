@@ -132,7 +132,10 @@ FxTransform Sweep::at(float t) const {
   const FxVec2f center = lerp(center0, center1, t);
   const float c = rotation0.c + t * (rotation1.c - rotation0.c);
   const float s = rotation0.s + t * (rotation1.s - rotation0.s);
-  const float inv = 1.0f / std::sqrt(c * c + s * s);
+  const float norm_squared = c * c + s * s;
+  // Exactly opposite rotations have no direction halfway between them; the end's will do there.
+  if (!(norm_squared > 0.0f)) return {center - rotate(rotation1, local_center), rotation1};
+  const float inv = 1.0f / std::sqrt(norm_squared);
   const FxRot rotation{c * inv, s * inv};
   return {center - rotate(rotation, local_center), rotation};
 }

@@ -8,6 +8,7 @@
 
 #include "fx2d/fx2d.h"
 #include "test_bodies.h"
+#include "time_of_impact.h"
 
 namespace fx2d {
 namespace {
@@ -93,6 +94,16 @@ TEST(ContinuousCollision, BulletDoesNotPassAFastThinBox) {
   for (int i = 0; i < 30; ++i) {
     scene.step();
     ASSERT_LT(bullet->position().x, thin_box->position().x) << "the bullet passed the box at step " << i;
+  }
+}
+
+// A body that turns exactly half a turn in a step has no interpolated rotation halfway; the
+// sweep must still give a finite pose there.
+TEST(ContinuousCollision, AnExactHalfTurnSweepsThroughFinitePoses) {
+  const detail::Sweep sweep{{0.0f, 0.1f}, {0.0f, 0.0f}, {1.0f, 0.0f}, FxRot{1.0f, 0.0f}, FxRot{-1.0f, 0.0f}};
+  for (const float t : {0.0f, 0.25f, 0.5f, 0.75f, 1.0f}) {
+    const FxTransform pose = sweep.at(t);
+    EXPECT_TRUE(is_finite(pose.p) && std::isfinite(pose.q.c) && std::isfinite(pose.q.s)) << "t = " << t;
   }
 }
 
