@@ -40,7 +40,9 @@ struct SearchSpec {
 
 struct Verdict {
   bool pass = true;
-  std::string reason;  // why it failed, with the numbers; empty when it passed
+  std::string reason;        // why it failed, with the numbers; empty when it passed
+  std::string criterion;     // which check failed first, one word ("moved", "crossed", ...); empty when it passed
+  std::optional<int> step;   // the step at whose sample it failed; none when no step is to blame
 };
 
 struct Evaluation {
@@ -48,9 +50,11 @@ struct Evaluation {
   Verdict verdict;
 };
 
-enum class Outcome { boundary, holds_to_limit, fails_at_start };
+// engine_limit: held up to the hardest value the engine accepts, which is below the test's limit
+// (a speed beyond the engine's maximum): set by the suite's search, never by find_boundary.
+enum class Outcome { boundary, holds_to_limit, fails_at_start, engine_limit };
 
-// "boundary", "holds_to_limit", "fails_at_start".
+// "boundary", "holds_to_limit", "fails_at_start", "engine_limit".
 std::string to_string(Outcome outcome);
 
 struct SearchResult {
@@ -103,9 +107,10 @@ Verdict slides_as_coulomb_predicts(const SceneSpec& scene, const Trajectory& tra
 Verdict recovers_from_overlap(const SceneSpec& scene, const Trajectory& trajectory, double max_upward_speed,
                               double max_final_penetration);
 
-// Tunnelling: no dynamic body may end up on the other side of the x = wall.x line of the first
-// static body (the wall) from where it started, at any sample.
-Verdict stays_before_wall(const SceneSpec& scene, const Trajectory& trajectory);
+// Tunnelling: no dynamic body may end up, at any sample, on the other side of the first static
+// body's mid-plane across its thinner side (x = its x for a wall, taller than wide; y = its y for
+// a floor) from where it started. That body must be a box.
+Verdict stays_on_its_side(const SceneSpec& scene, const Trajectory& trajectory);
 
 // Joint gap: at every sample, the two world anchors of every joint lie within `max_gap` metres.
 Verdict joints_hold(const SceneSpec& scene, const Trajectory& trajectory, double max_gap);
@@ -123,6 +128,9 @@ struct StabilityTest {
   // The parameter as --set assignments (JSON pointer, JSON value) on the scene file.
   std::function<std::vector<std::pair<std::string, std::string>>(double)> overrides;
   std::function<Verdict(const SceneSpec&, const Trajectory&)> judge;
+  // The hardest parameter an engine accepts (increasing tests), or empty when any is: the search
+  // stops there instead of probing values the engine refuses to build.
+  std::function<double(const EngineCapabilities&)> engine_limit;
 };
 
 // The suite in its fixed order.

@@ -84,12 +84,16 @@ TestResult search_test(const StabilityOptions& options, const EngineInfo& engine
     outcome.overrides.push_back(assignments_text(test.overrides(parameter)));
     const SceneSpec scene = load_test_scene(test, options.suite_dir, sets, parameter);
     if (outcome.settings.empty()) outcome.settings = nlohmann::json::parse(scene.resolved_json)["solver"][engine.solver].dump();
-    // A stress the engine cannot even build (Fx2D's speed limit on thin_wall) is where it stops holding.
+    // A stress the engine cannot build that the test's engine_limit does not foresee is where it
+    // stops holding.
     if (const std::optional<std::string> missing = missing_capability(engine.capabilities, scene))
-      return Verdict{false, engine.name + " cannot build " + *missing};
+      return Verdict{false, engine.name + " cannot build " + *missing, "cannot_build", std::nullopt};
     return test.judge(scene, simulate(scene, engine, test.sample_every));
   };
+  const bool capped = test.engine_limit && test.engine_limit(engine.capabilities) < outcome.search.limit;
+  if (capped) outcome.search.limit = test.engine_limit(engine.capabilities);
   outcome.result = find_boundary(outcome.search, evaluate);
+  if (capped && outcome.result.outcome == Outcome::holds_to_limit) outcome.result.outcome = Outcome::engine_limit;
   return outcome;
 }
 
@@ -114,8 +118,31 @@ std::string cell(const TestResult& outcome) {
     case Outcome::boundary: return value_text(*outcome.result.last_pass);
     case Outcome::holds_to_limit: return (increasing ? ">= " : "<= ") + value_text(outcome.search.limit) + " (limit)";
     case Outcome::fails_at_start: return "fails at " + value_text(outcome.search.start);
+    case Outcome::engine_limit: return "engine limit at " + value_text(outcome.search.limit);
   }
   return {};
+}
+
+// The verdict of the easiest value that failed: what failed first there, and when.
+Verdict first_failure(const SearchResult& result) {
+  for (const Evaluation& evaluation : result.evaluations)
+    if (result.first_fail && evaluation.parameter == *result.first_fail) return evaluation.verdict;
+  return {};
+}
+
+// One line per engine and test that failed: at which value, which criterion, at which step, why.
+std::string failures_of(const std::vector<TestResult>& results, const std::vector<const EngineInfo*>& engines,
+                        const std::vector<const StabilityTest*>& tests) {
+  std::vector<std::vector<std::string>> rows;
+  for (const EngineInfo* engine : engines)
+    for (const StabilityTest* test : tests)
+      for (const TestResult& outcome : results) {
+        if (outcome.engine != engine || outcome.test != test || !outcome.result.first_fail) continue;
+        const Verdict failure = first_failure(outcome.result);
+        rows.push_back({engine->name, test->name, "at " + value_text(*outcome.result.first_fail) + ":", failure.criterion,
+                        failure.step ? "step " + std::to_string(*failure.step) : "", failure.reason});
+      }
+  return rows.empty() ? std::string() : "what failed first:\n" + aligned_columns(rows);
 }
 
 std::string table_of(const std::vector<TestResult>& results, const std::vector<const EngineInfo*>& engines,
@@ -131,7 +158,7 @@ std::string table_of(const std::vector<TestResult>& results, const std::vector<c
       rows.back().push_back(outcome == results.end() ? "cannot build" : cell(*outcome));
     }
   }
-  std::string text = aligned_columns(rows);
+  std::string text = aligned_columns(rows) + failures_of(results, engines, tests);
   for (const EngineInfo* engine : engines)
     for (const TestResult& outcome : results)
       if (outcome.engine == engine) {
@@ -145,10 +172,8 @@ nlohmann::ordered_json optional_json(const std::optional<double>& value) {
   return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
 }
 
-std::string failure_of(const SearchResult& result) {
-  for (const Evaluation& evaluation : result.evaluations)
-    if (result.first_fail && evaluation.parameter == *result.first_fail) return evaluation.verdict.reason;
-  return {};
+nlohmann::ordered_json step_json(const std::optional<int>& step) {
+  return step ? nlohmann::ordered_json(*step) : nlohmann::ordered_json(nullptr);
 }
 
 nlohmann::ordered_json json_of(const std::vector<TestResult>& results, const std::vector<const StabilityTest*>& tests,
@@ -169,6 +194,8 @@ nlohmann::ordered_json json_of(const std::vector<TestResult>& results, const std
       evaluations.push_back({{"parameter", evaluation.parameter},
                              {"pass", evaluation.verdict.pass},
                              {"reason", evaluation.verdict.reason},
+                             {"criterion", evaluation.verdict.criterion},
+                             {"step", step_json(evaluation.verdict.step)},
                              {"overrides", outcome.overrides[i]}});
     }
     rows.push_back({{"engine", outcome.engine->name},
@@ -182,7 +209,9 @@ nlohmann::ordered_json json_of(const std::vector<TestResult>& results, const std
                     {"outcome", to_string(outcome.result.outcome)},
                     {"last_pass", optional_json(outcome.result.last_pass)},
                     {"first_fail", optional_json(outcome.result.first_fail)},
-                    {"failure", failure_of(outcome.result)},
+                    {"failure", first_failure(outcome.result).reason},
+                    {"failed_criterion", first_failure(outcome.result).criterion},
+                    {"failed_step", step_json(first_failure(outcome.result).step)},
                     {"evaluations", evaluations}});
   }
   return {{"schema", stability_schema}, {"quick", quick}, {"tests", suite}, {"results", rows}};
@@ -220,7 +249,9 @@ std::vector<H5Table> tables_h5(const std::vector<TestResult>& results, bool quic
           column<std::string>(results, "outcome", "", [](R r) { return to_string(r.result.outcome); }),
           column<double>(results, "last_pass", "parameter", [&](R r) { return r.result.last_pass.value_or(none); }),
           column<double>(results, "first_fail", "parameter", [&](R r) { return r.result.first_fail.value_or(none); }),
-          column<std::string>(results, "failure", "", [](R r) { return failure_of(r.result); }),
+          column<std::string>(results, "failure", "", [](R r) { return first_failure(r.result).reason; }),
+          column<std::string>(results, "failed_criterion", "", [](R r) { return first_failure(r.result).criterion; }),
+          column<std::int32_t>(results, "failed_step", "step", [](R r) { return first_failure(r.result).step.value_or(-1); }),
           column<std::int32_t>(results, "first_evaluation", "index", [&](R r) {
             std::size_t first = 0;
             for (const TestResult& other : results) {

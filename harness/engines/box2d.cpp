@@ -136,6 +136,7 @@ class Box2dEngine final : public Engine {
     // the spec's origin velocity can be given before the fixture exists.
     def.linearVelocity = to_b2(spec.linear_velocity);
     def.angularVelocity = static_cast<float>(spec.angular_velocity);
+    def.bullet = spec.bullet;
     b2Body* body = world_->CreateBody(&def);
     add_fixture(*body, spec);
     return body;

@@ -100,7 +100,8 @@ class FlatScene {
             body.material.density,
             body.material.static_friction,
             body.material.dynamic_friction,
-            body.material.restitution};
+            body.material.restitution,
+            body.bullet ? 1 : 0};
   }
 
   std::vector<Fx2dBenchVec2> vertices_;

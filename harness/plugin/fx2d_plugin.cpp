@@ -66,6 +66,17 @@ fx2d::FxBodyType body_type(int32_t type) {
   }
 }
 
+// ab builds this file around older revisions of Fx2D too, some from before FxEntityDef::bullet;
+// a scene that asks such a revision for a bullet is refused rather than run without one.
+template <class Def>
+void mark_bullet(Def& def, bool bullet) {
+  if constexpr (requires { def.bullet; }) {
+    def.bullet = bullet;
+  } else if (bullet) {
+    throw std::invalid_argument("this revision of Fx2D has no bullets (FxEntityDef::bullet)");
+  }
+}
+
 fx2d::FxEntityDef make_def(const Fx2dBenchBody& body) {
   fx2d::FxEntityDef def;
   def.type = body_type(body.type);
@@ -78,6 +89,7 @@ fx2d::FxEntityDef make_def(const Fx2dBenchBody& body) {
   def.material.static_friction = static_cast<float>(body.static_friction);
   def.material.dynamic_friction = static_cast<float>(body.dynamic_friction);
   def.material.restitution = static_cast<float>(body.restitution);
+  mark_bullet(def, body.bullet != 0);
   return def;
 }
 

@@ -25,9 +25,10 @@ extern "C" {
 #endif
 
 /* Raised on any change to a struct or function below; a loader refuses any other version. */
-#define FX2D_BENCH_PLUGIN_ABI_VERSION 2
+#define FX2D_BENCH_PLUGIN_ABI_VERSION 3
 /* The one exported symbol, by name, for dlsym(). Its name and the table's layout are version 1's;
- * version 2 added relax_passes and max_push_speed to Fx2dBenchSettings. */
+ * version 2 added relax_passes and max_push_speed to Fx2dBenchSettings, version 3 bullet to
+ * Fx2dBenchBody. */
 #define FX2D_BENCH_PLUGIN_ENTRY "fx2d_bench_plugin_v1"
 
 typedef struct Fx2dBenchVec2 {
@@ -67,6 +68,7 @@ typedef struct Fx2dBenchBody {
   double static_friction;         /* dimensionless, >= 0 */
   double dynamic_friction;        /* dimensionless, >= 0 */
   double restitution;             /* dimensionless, 0..1 */
+  int32_t bullet;                 /* 1: swept against fast dynamic bodies too (FxEntityDef::bullet) */
 } Fx2dBenchBody;
 
 typedef struct Fx2dBenchJoint {

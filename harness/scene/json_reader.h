@@ -150,6 +150,15 @@ class ObjectReader {
       errors_.expected(at(key), range.describe("number", false) + " or " + in_quotes(keyword), value);
     return read_number(errors_, value, at(key), range);
   }
+  // A flag that is false when absent and then is not written back, so a scene that leaves it out
+  // keeps the hash it had before the key existed.
+  bool optional_flag(std::string_view key) {
+    note(key);
+    if (!object_.contains(key)) return false;
+    const Json& value = object_[key];
+    if (!value.is_boolean()) errors_.expected(at(key), "true or false", value);
+    return value.get<bool>();
+  }
   std::optional<double> optional_number(std::string_view key, const Range& range) {
     note(key);
     if (!object_.contains(key) || object_[key].is_null()) return std::nullopt;

@@ -347,6 +347,7 @@ void read_explicit_bodies(ObjectReader& scene, SceneSpec& spec, const MaterialSp
     body.linear_velocity = reader.vec2("velocity", {}, kSigned);
     body.angular_velocity = reader.number("angular_velocity", 0.0, kSigned);
     body.material = read_material(reader, material);
+    body.bullet = reader.optional_flag("bullet");
     reader.finish();
     spec.bodies.push_back(std::move(body));
   });

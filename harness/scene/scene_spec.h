@@ -38,6 +38,7 @@ struct BodySpec {
   Vec2 linear_velocity;             // m/s
   double angular_velocity = 0.0;    // rad/s
   MaterialSpec material;
+  bool bullet = false;              // swept against fast dynamic bodies too (Fx2D, Box2D)
 };
 
 enum class JointKind { distance, revolute };

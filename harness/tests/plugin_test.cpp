@@ -19,6 +19,7 @@
 #include "metrics/accuracy.h"
 #include "plugin_copies.h"
 #include "scene/scene_loader.h"
+#include "spec_builders.h"
 
 namespace fxbench {
 namespace {
@@ -140,6 +141,31 @@ TEST(PluginEngine, ReportsABuildFailureAsItsOneLineError) {
   } catch (const std::runtime_error& error) {
     EXPECT_STREQ(error.what(), "fx2d plugin: joint body index 999 out of range");
   }
+}
+
+// A circle at 390 m/s meets a 0.02 m box coming the other way at 100 m/s: marked a bullet in the
+// scene, it stops at the box (the flag crossed the plugin table); unmarked, it passes through.
+TEST(PluginEngine, TheScenesBulletFlagReachesFx2d) {
+  const auto circle_ends_before_box = [](bool bullet) {
+    SceneSpec scene;
+    scene.name = "bullet";
+    scene.gravity = {0.0, 0.0};
+    BodySpec box = test::box_at({10.0, 0.0});
+    box.half_extents = {0.01, 1.0};
+    box.linear_velocity = {-100.0, 0.0};
+    BodySpec circle = test::circle_at({-10.0, 0.0}, 0.05);
+    circle.linear_velocity = {390.0, 0.0};
+    circle.bullet = bullet;
+    scene.bodies = {box, circle};
+    const auto engine = make_fx2d_engine();
+    engine->build(scene);
+    for (int step = 0; step < 30; ++step) engine->step();
+    std::vector<BodyState> state;
+    engine->read_state(state);
+    return state[1].position.x < state[0].position.x;
+  };
+  EXPECT_TRUE(circle_ends_before_box(true));
+  EXPECT_FALSE(circle_ends_before_box(false));
 }
 
 // The injected cost spins until the step's own time times the fraction has passed again, so a

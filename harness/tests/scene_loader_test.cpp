@@ -431,6 +431,18 @@ TEST(Defaults, ExplicitBodyNeedsOnlyItsShape) {
   EXPECT_EQ(body.material.static_friction, 0.6);
 }
 
+// A scene that leaves `bullet` out resolves, and hashes, as it did before the key existed.
+TEST(Defaults, BulletIsFalseAndLeftOutOfTheResolvedSceneWhenNotGiven) {
+  const SceneSpec plain = load(scene_with(R"("bodies": [{"shape": {"circle": 1}}])"));
+  EXPECT_FALSE(plain.bodies[0].bullet);
+  EXPECT_EQ(plain.resolved_json.find("bullet"), std::string::npos);
+  const SceneSpec bullet = load(scene_with(R"("bodies": [{"shape": {"circle": 1}, "bullet": true}])"));
+  EXPECT_TRUE(bullet.bodies[0].bullet);
+  EXPECT_NE(bullet.hash, plain.hash);
+  EXPECT_NE(load_error(scene_with(R"("bodies": [{"shape": {"circle": 1}, "bullet": 1}])")).find("bullet: expected true or false, got 1"),
+            std::string::npos);
+}
+
 TEST(Defaults, DistanceJointLengthDefaultsToAsBuilt) {
   const SceneSpec scene = load(scene_with(
       R"("bodies": [{"shape": {"circle": 1}}, {"shape": {"circle": 1}, "position": [3, 0]}],

@@ -147,17 +147,34 @@ TEST(RecoversFromOverlap, FailsOnALaunchAndOnAnOverlapLeftAtTheEnd) {
   EXPECT_NE(verdict.reason.find("0.05 m"), std::string::npos) << verdict.reason;
 }
 
-// ---- stays_before_wall ----
+// ---- stays_on_its_side ----
 
-TEST(StaysBeforeWall, FailsOnlyOnceTheCircleCrossesTheWallsMidPlane) {
+TEST(StaysOnItsSide, FailsOnlyOnceTheBodyCrossesTheWallsMidPlane) {
   SceneSpec scene;
   scene.bodies = {box_at(0, 0, BodyType::static_body), box_at(-2, 0)};
   auto stopped = start_of(scene);
   stopped[1].position.x = -0.01;
-  EXPECT_TRUE(stays_before_wall(scene, from_start_to(scene, stopped)).pass);
+  EXPECT_TRUE(stays_on_its_side(scene, from_start_to(scene, stopped)).pass);
   auto through = start_of(scene);
   through[1].position.x = 0.01;
-  EXPECT_FALSE(stays_before_wall(scene, from_start_to(scene, through)).pass);
+  EXPECT_FALSE(stays_on_its_side(scene, from_start_to(scene, through)).pass);
+}
+
+TEST(StaysOnItsSide, AFloorWiderThanTallIsCrossedDownward) {
+  SceneSpec scene;
+  scene.bodies = {box_at(0, 0, BodyType::static_body), box_at(3, 2)};
+  scene.bodies[0].half_extents = {5.0, 0.01};
+  auto beside = start_of(scene);
+  beside[1].position = {-3.0, 0.01};  // crossed x = 0, which is no wall here
+  EXPECT_TRUE(stays_on_its_side(scene, from_start_to(scene, beside)).pass);
+  auto through = start_of(scene);
+  through[1].position.y = -0.01;
+  const Verdict verdict = stays_on_its_side(scene, from_start_to(scene, through));
+  EXPECT_FALSE(verdict.pass);
+  EXPECT_NE(verdict.reason.find("floor"), std::string::npos) << verdict.reason;
+  // What failed first and when: the sample at t = 1 s is step 60 of 1/60 s.
+  EXPECT_EQ(verdict.criterion, "crossed");
+  EXPECT_EQ(verdict.step, 60);
 }
 
 // ---- joints_hold ----
@@ -183,7 +200,7 @@ TEST(JointsHold, MeasuresTheGapBetweenWorldAnchors) {
 // ---- find_boundary ----
 
 std::function<Verdict(double)> passes_below(double threshold) {
-  return [threshold](double value) { return value < threshold ? Verdict{} : Verdict{false, "too hard"}; };
+  return [threshold](double value) { return value < threshold ? Verdict{} : Verdict{false, "too hard", "hard", std::nullopt}; };
 }
 
 TEST(FindBoundary, BracketsALinearThresholdToTheResolution) {
@@ -214,7 +231,7 @@ TEST(FindBoundary, FindsAnIntegerThresholdExactlyAndTriesOnlyWholeValues) {
 
 TEST(FindBoundary, SearchesDownwardWhenLowerIsHarder) {
   // A card house that needs friction 0.183: passes at or above it.
-  const auto holds = [](double friction) { return friction >= 0.183 ? Verdict{} : Verdict{false, "slid"}; };
+  const auto holds = [](double friction) { return friction >= 0.183 ? Verdict{} : Verdict{false, "slid", "slid", std::nullopt}; };
   const SearchResult result = find_boundary({1, 0.01, 0.01, Harder::decreasing, Scale::linear, false}, holds);
   ASSERT_EQ(result.outcome, Outcome::boundary);
   EXPECT_GE(*result.last_pass, 0.183);

@@ -53,6 +53,12 @@ struct FxEntityDef {
   float linear_damping = 0.0f;    // 1/s, >= 0
   float angular_damping = 0.0f;   // 1/s, >= 0
   bool can_sleep = true;
+  // A bullet is kept from passing through dynamic bodies as well as static and kinematic ones,
+  // at any speed up to FxSceneSettings::max_linear_speed: its motion over each step in which it
+  // moves farther than half its inner size is swept against theirs (time of impact), at the cost
+  // of that sweep. Every dynamic body has this against static and kinematic bodies; bullets do
+  // not get it against other bullets.
+  bool bullet = false;
 };
 
 class FxEntity {

@@ -25,16 +25,17 @@ enum class FxStage : int {
   relax,            // relax: separations at the new poses, passes without correction, per substep
   restitution,      // apply_restitution, after the substeps
   position_solve,   // solve_positions: the final non-linear position projection
+  continuous,       // solve_continuous: fast bodies stopped at their first time of impact
   constraints,      // user constraints (joints): preparation and their share of every pass
   store,            // store_impulses: impulses kept for the next step's warm start
   sleep,            // update_sleep: resting islands
 };
-inline constexpr int fx_stage_count = 13;
+inline constexpr int fx_stage_count = 14;
 
 constexpr std::string_view stage_name(FxStage stage) {
   constexpr std::array<std::string_view, fx_stage_count> names = {
       "broad_phase", "collide",     "prepare",        "colour_and_pack", "integrate", "warm_start", "solve",
-      "relax",       "restitution", "position_solve", "constraints",     "store",     "sleep"};
+      "relax",       "restitution", "position_solve", "continuous",      "constraints", "store",   "sleep"};
   return names[static_cast<int>(stage)];
 }
 

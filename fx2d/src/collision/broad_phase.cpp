@@ -41,10 +41,6 @@ void rebuild_jointed_pairs(BroadPhase& broad, const Constraints& constraints) {
   broad.jointed_pairs_dirty = false;
 }
 
-bool jointed(const BroadPhase& broad, std::uint32_t a, std::uint32_t b) {
-  return std::binary_search(broad.jointed_pairs.begin(), broad.jointed_pairs.end(), pair_key(a, b));
-}
-
 void create_contact(ContactCache& contacts, std::vector<BodyRecord>& records, std::uint32_t a, std::uint32_t b) {
   const int id = contacts.create(a, b, records[a].contact_head, records[b].contact_head);
   CachedContact& contact = contacts.slots[id];
@@ -69,6 +65,10 @@ int BroadPhase::create_proxy(const FxAABB& aabb, std::uint32_t index) {
   if (body_of_proxy.size() <= static_cast<std::size_t>(proxy)) body_of_proxy.resize(proxy + 1);
   body_of_proxy[proxy] = index;
   return proxy;
+}
+
+bool BroadPhase::jointed(std::uint32_t a, std::uint32_t b) const {
+  return std::binary_search(jointed_pairs.begin(), jointed_pairs.end(), pair_key(a, b));
 }
 
 void BroadPhase::refresh(BodyRecord& record, const FxAABB& aabb) const {
@@ -110,7 +110,7 @@ void update_broad_phase(const StepContext& step, BroadPhase& broad, Bodies& bodi
       if (records[i].type != FxBodyType::dynamic && records[j].type != FxBodyType::dynamic) return true;
       const std::uint32_t a = i < j ? i : j;
       const std::uint32_t b = i < j ? j : i;
-      if (contacts.has_pair(records[a].contact_head, b) || jointed(broad, a, b)) return true;
+      if (contacts.has_pair(records[a].contact_head, b) || broad.jointed(a, b)) return true;
       new_pairs.push_back(std::uint64_t{i} << 32 | j);
       return true;
     });

@@ -27,6 +27,8 @@ struct BroadPhase {
   void reserve(std::size_t bodies);
   // Gives body `index` a proxy for its tight box `aabb`.
   int create_proxy(const FxAABB& aabb, std::uint32_t index);
+  // True when a constraint joins bodies a and b: such a pair never collides.
+  bool jointed(std::uint32_t a, std::uint32_t b) const;
   // Marks the body moved when its tight box has left its proxy's fat box.
   void refresh(BodyRecord& record, const FxAABB& aabb) const;
 };

@@ -27,11 +27,13 @@ struct BodyRecord {
   bool can_sleep = true;
   bool awake = true;
   bool moved = false;          // its proxy moved this step: search it for new pairs
+  bool bullet = false;         // swept against fast dynamic bodies too (continuous.h)
   float mass = 0.0f;
   float rotational_inertia = 0.0f;
   float linear_damping = 0.0f;
   float angular_damping = 0.0f;
   float sleep_time = 0.0f;     // seconds it has been resting
+  float inner_extent = 0.0f;   // metres from the shape's centroid to its nearest surface
   int proxy = AabbTree::null_node;
   int contact_head = -1;       // first contact edge touching this body (contact_cache.h)
   int sleep_island = -1;       // while asleep: the packed index that named its island

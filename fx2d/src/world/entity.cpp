@@ -73,6 +73,8 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
   record.material = def.material;
   record.type = def.type;
   record.can_sleep = def.can_sleep;
+  record.bullet = def.bullet;
+  record.inner_extent = inner_extent(def.shape);
   record.awake = def.type != FxBodyType::static_body;
   record.linear_damping = def.linear_damping;
   record.angular_damping = def.angular_damping;
@@ -111,6 +113,7 @@ void World::reserve_scratch() {
   solver_.reserve(n);
   broad_phase_.reserve(n);
   sleep_.reserve(n);
+  continuous_.reserve(n);
   contacts_.slots.reserve(4 * n);
 }
 

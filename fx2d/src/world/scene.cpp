@@ -14,6 +14,7 @@
 //   restitution      apply_restitution()
 //   position_solve   solve_positions()        project remaining deep overlaps
 //   integrate        finalize_bodies()        write poses back with carries, refresh boxes
+//   continuous       solve_continuous()       fast bodies back to their first impact     continuous.h
 //   store            store_impulses()         impulses for the next step's warm start
 //   sleep            update_sleep()           resting islands                         sleep.h
 //   constraints      user constraints' share of prepare, warm start and every pass
@@ -115,6 +116,8 @@ void World::step() {
     solve_positions(step, solver_);
     clock.switch_to(FxStage::integrate);
     finalize_bodies(step, solver_, bodies_, broad_phase_);
+    clock.switch_to(FxStage::continuous);
+    solve_continuous(step, continuous_, solver_.states, solver_.integration.moving_bodies(), bodies_, broad_phase_);
     clock.switch_to(FxStage::store);
     store_impulses(solver_, contacts_);
     clock.switch_to(FxStage::sleep);

@@ -10,6 +10,7 @@
 #include "world/bodies.h"
 #include "collision/broad_phase.h"
 #include "collision/contact_cache.h"
+#include "collision/continuous.h"
 #include "fx2d/Constraint.h"
 #include "fx2d/Entity.h"
 #include "fx2d/Profile.h"
@@ -60,6 +61,7 @@ class World final {
   ContactCache contacts_;
   SolverData solver_;
   SleepScratch sleep_;
+  ContinuousScratch continuous_;
 
   std::function<void(FxScene&)> step_callback_;
   FxProfile profile_;

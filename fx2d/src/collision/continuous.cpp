@@ -1,0 +1,161 @@
+// Continuous collision (continuous.h): which bodies are fast this step, their sweeps, and the
+// move back to the first time of impact.
+#include "collision/continuous.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "world/step_context.h"
+#include "collision/time_of_impact.h"
+
+namespace fx2d::detail {
+namespace {
+
+// A body is fast when some point of it moves farther in a step than this share of its inner
+// extent: less cannot carry it past anything before the contact it makes pushes back (Box2D's
+// safety factor).
+constexpr float fast_share = 0.5f;
+// The core of a body, the part kept from passing through what it already touches, is a circle of
+// this share of its inner extent.
+constexpr float core_share = 0.25f;
+
+// A bound on how far any point of a body moved in the step `state` records.
+float step_motion(const FxBodyState& state, float body_reach) {
+  // Up to a quarter turn the angle is at most pi/2 times its sine; beyond, a half turn bounds it.
+  const FxRot turn = state.delta_rotation;
+  const float angle = turn.c >= 0.0f ? 1.5707964f * std::abs(turn.s) : 3.1415927f;
+  return length(state.delta_position) + angle * body_reach;
+}
+
+// The motion of `body` over the step, with its origin at `origin` at the step's end.
+Sweep sweep_of(const Bodies& bodies, std::span<const FxBodyState> states, std::uint32_t body, FxVec2f origin) {
+  const BodySim& sim = bodies.sims[body];
+  const FxBodyState& state = states[body];
+  Sweep sweep;
+  sweep.local_center = sim.local_center;
+  sweep.rotation1 = sim.rotation;
+  sweep.center1 = origin + rotate(sim.rotation, sim.local_center);
+  sweep.center0 = sweep.center1 - state.delta_position;
+  sweep.rotation0 = inv_mul(state.delta_rotation, sim.rotation);
+  return sweep;
+}
+
+// Whether a body of the pass (bullets or not) is swept against `other`.
+bool sweeps_against(const BodyRecord& other, bool bullet_pass) {
+  return other.type != FxBodyType::dynamic || (bullet_pass && !other.bullet);
+}
+
+class FastBodyPass {
+ public:
+  // A fast body stops `gap` short of touching, so that the next step's contact has room to act.
+  FastBodyPass(float gap, std::span<FxBodyState> states, Bodies& bodies, const BroadPhase& broad, bool bullets)
+      : gap_(gap), states_(states), bodies_(bodies), broad_(broad), bullets_(bullets) {}
+
+  void advance(std::uint32_t body) {
+    const Sweep sweep = sweep_of(bodies_, states_, body, FxVec2f{});
+    const Impact impact = first_impact(body, sweep);
+    if (impact.fraction < 1.0f) move_to(body, sweep, impact);
+  }
+
+ private:
+  // The first body hit, when, and its motion in the frame of the body that hit it.
+  struct Impact {
+    float fraction = 1.0f;
+    std::uint32_t other = 0;
+    Sweep other_sweep;
+  };
+
+  // The box the body's shape covers at the step's start and at its end.
+  FxAABB swept_box(std::uint32_t body, const Sweep& sweep) const {
+    const BodySim& sim = bodies_.sims[body];
+    const FxTransform start = sweep.at(0.0f);
+    FxAABB box;
+    bodies_.records[body].shape.compute_aabb(FxTransform{sim.origin + start.p, start.q}, box);
+    return union_of(box, sim.aabb);
+  }
+
+  FxShape core_of(std::uint32_t body) const {
+    const BodyRecord& record = bodies_.records[body];
+    return FxShape::circle(core_share * record.inner_extent, record.shape.centroid());
+  }
+
+  // The earliest impact of `body` on a body it is swept against; fraction 1 when there is none.
+  // Ties go to the lower index, so the tree's order of visits does not matter.
+  Impact first_impact(std::uint32_t body, const Sweep& sweep) const {
+    const FxShape& shape = bodies_.records[body].shape;
+    Impact earliest;
+    broad_.tree.query(swept_box(body, sweep), [&](int proxy) {
+      const std::uint32_t other = broad_.body_of_proxy[proxy];
+      const BodyRecord& record = bodies_.records[other];
+      if (other == body || !sweeps_against(record, bullets_) || broad_.jointed(body, other)) return true;
+      const Sweep other_sweep = sweep_of(bodies_, states_, other, bodies_.origin_offset(body, other));
+      float fraction = time_of_impact(shape, sweep, record.shape, other_sweep, gap_);
+      // 0: the two were that close when the step began. Their contact holds them apart, but a body
+      // that turns fast can still swing through about the point it touches: its core, a circle
+      // at its centroid, is kept from passing (as Box2D v3.1 does).
+      if (fraction == 0.0f) fraction = time_of_impact(core_of(body), sweep, record.shape, other_sweep, gap_);
+      const bool earlier = fraction < earliest.fraction || (fraction == earliest.fraction && other < earliest.other);
+      if (fraction > 0.0f && fraction < 1.0f && earlier) earliest = {fraction, other, other_sweep};
+      return true;
+    });
+    return earliest;
+  }
+
+  // Puts `body` where it was at the impact, then carries it with the body it hit for the rest of
+  // the step, so the two end the step as they were at the impact: a gap apart, on the same sides.
+  void move_to(std::uint32_t body, const Sweep& sweep, const Impact& impact) {
+    const FxTransform at_impact = sweep.at(impact.fraction);
+    const FxTransform hit_at_impact = impact.other_sweep.at(impact.fraction);
+    const FxTransform hit_at_end = impact.other_sweep.at(1.0f);
+    const FxTransform relative = inv_mul(hit_at_impact, at_impact);
+    const FxTransform carried{transform_point(hit_at_end, relative.p), mul(hit_at_end.q, relative.q)};
+    BodySim& sim = bodies_.sims[body];
+    BodyRecord& record = bodies_.records[body];
+    FxBodyState& state = states_[body];
+    FxCarryAdd(sim.origin, sim.carry, carried.p);
+    sim.rotation = carried.q;
+    state.delta_position = carried.p + rotate(carried.q, sim.local_center) - sweep.center0;
+    state.delta_rotation = inv_mul(sweep.rotation0, carried.q);
+    record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
+    broad_.refresh(record, sim.aabb);
+  }
+
+  float gap_;
+  std::span<FxBodyState> states_;
+  Bodies& bodies_;
+  const BroadPhase& broad_;
+  bool bullets_;
+};
+
+}  // namespace
+
+float inner_extent(const FxShape& shape) {
+  if (shape.type() == FxShapeType::circle) return shape.radius();
+  float nearest = std::numeric_limits<float>::max();
+  for (int i = 0; i < shape.vertex_count(); ++i) {
+    nearest = std::min(nearest, dot(shape.normals()[i], shape.vertices()[i] - shape.centroid()));
+  }
+  return nearest;
+}
+
+void solve_continuous(const StepContext& step, ContinuousScratch& scratch, std::span<FxBodyState> states,
+                      std::span<const std::uint32_t> moving, Bodies& bodies, const BroadPhase& broad) {
+  std::vector<std::uint32_t>& fast = scratch.fast_bodies;
+  fast.clear();
+  for (const std::uint32_t body : moving) {
+    const BodyRecord& record = bodies.records[body];
+    if (record.type != FxBodyType::dynamic) continue;
+    const float motion = step_motion(states[body], reach(record.shape, bodies.sims[body].local_center));
+    if (motion > fast_share * record.inner_extent) fast.push_back(body);
+  }
+  // Bullets go second, against the motion the first pass left the other bodies.
+  for (const bool bullets : {false, true}) {
+    FastBodyPass pass(step.settings.linear_slop, states, bodies, broad, bullets);
+    for (const std::uint32_t body : fast) {
+      if (bodies.records[body].bullet == bullets) pass.advance(body);
+    }
+  }
+}
+
+}  // namespace fx2d::detail

@@ -1,0 +1,42 @@
+// Continuous collision: the stage that stops a fast body where its motion over the step would
+// first have touched something, so that it cannot pass through a thin or small body between two
+// poses. It runs after the step's poses are final (finalize_bodies) and looks only at bodies
+// whose motion this step is large against their own size; other scenes pay one comparison per
+// moving body.
+//
+// Every fast dynamic body is swept against static and kinematic bodies; a bullet (FxEntityDef::
+// bullet) is also swept, afterwards, against the dynamic bodies that are not bullets, along their
+// motion of the step as the first pass left it. Each fast body reads only bodies that the pass it
+// is in does not move, so the result does not depend on the order the fast bodies are taken in.
+// The body keeps its velocity: the next step's contact stops it.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "world/bodies.h"
+#include "collision/broad_phase.h"
+#include "fx2d/Constraint.h"
+
+namespace fx2d::detail {
+
+struct StepContext;
+
+// The fast bodies of the step, kept between steps so that a step does not allocate.
+struct ContinuousScratch {
+  std::vector<std::uint32_t> fast_bodies;
+
+  void reserve(std::size_t bodies) { fast_bodies.reserve(bodies); }
+};
+
+// The least distance from a shape's centroid to its surface (metres): how far it may move in one
+// step before it could be past a wall without ever having overlapped it by half.
+float inner_extent(const FxShape& shape);
+
+// Stage: moves each fast body in `moving` back to its pose at its first time of impact, if any,
+// linear_slop short of touching, and rewrites its displacement in `states` to the motion it kept.
+void solve_continuous(const StepContext& step, ContinuousScratch& scratch, std::span<FxBodyState> states,
+                      std::span<const std::uint32_t> moving, Bodies& bodies, const BroadPhase& broad);
+
+}  // namespace fx2d::detail
