@@ -1,10 +1,10 @@
-// Tests of the scene loader: the canonical scenes expand to exactly the bodies scenes/README.md defines
+// Tests of the scene loader: the canonical scenes expand to exactly the bodies scenes/SCENES.md defines
 // at every listed size; each generator follows its formula; every default is filled in; overrides
 // reach any field and are checked like the file; the hash follows the resolved scene; and every
 // kind of mistake gives one line naming where it is and what was expected.
 //
 // Positions are compared exactly (EXPECT_EQ on doubles) where the loader must evaluate the same
-// expression as scenes/README.md, term by term: the scenes are defined to the bit.
+// expression as scenes/SCENES.md, term by term: the scenes are defined to the bit.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -69,7 +69,7 @@ int count_of(const SceneSpec& scene, BodyType type) {
 
 double top_face(const BodySpec& body) { return body.position.y + body.half_extents.y; }
 
-// --- The canonical scenes (scenes/README.md) -------------------------------------------------------
+// --- The canonical scenes (scenes/SCENES.md) -------------------------------------------------------
 
 TEST(CanonicalScenes, StacksPlacesTenTouchingUnitBoxesPerColumnTwoMetresApart) {
   const SceneSpec scene = canonical("stacks");
