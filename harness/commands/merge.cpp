@@ -163,15 +163,16 @@ void set_attribute(H5Table& table, const std::string& name, std::variant<std::st
 void merge_sweep(const std::vector<ShardFile>& files, const std::vector<RowSource>& rows, ResultSet& results,
                  H5Table& table) {
   std::vector<std::int32_t>& run = column<std::int32_t>(table, "run");
+  // Scenes in the order their first point comes, as the unsharded sweep lists them.
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const ShardFile& file = files[rows[i].file];
     results.runs.push_back(file.results.runs.at(static_cast<std::size_t>(run[i])));
     run[i] = static_cast<std::int32_t>(i);
+    const std::string& hash = results.runs.back().scene_hash;
+    const auto scene = std::ranges::find(file.results.scenes, hash, &SceneRecord::hash);
+    if (scene == file.results.scenes.end()) throw InputError(file.path + ": no /scenes entry for scene hash " + hash);
+    if (std::ranges::find(results.scenes, hash, &SceneRecord::hash) == results.scenes.end()) results.scenes.push_back(*scene);
   }
-  for (const ShardFile& file : files)
-    for (const SceneRecord& scene : file.results.scenes)
-      if (std::ranges::find(results.scenes, scene.hash, &SceneRecord::hash) == results.scenes.end())
-        results.scenes.push_back(scene);
   const std::vector<std::int32_t>& group = column<std::int32_t>(table, "pareto_group");
   const std::vector<double>& cost = column<double>(table, "ms_per_simulated_s");
   const std::vector<double>& error = column<double>(table, "primary_error");
