@@ -223,6 +223,11 @@ void merge_command(const MergeOptions& options) {
   std::vector<H5Table> out{gathered(tables, rows)};
   set_attribute(out.front(), "shard", std::string("1/1"));
   out.front().attributes.emplace_back("merged_shards", static_cast<std::int32_t>(files.size()));
+  // The provenance is shard 1's; where every other shard ran is kept here, one "K/N host" each.
+  std::string hosts;
+  for (const ShardFile& file : files)
+    hosts += (hosts.empty() ? "" : "; ") + file.shard.text() + " " + file.results.provenance.hostname;
+  out.front().attributes.emplace_back("shard_hosts", hosts);
   ResultSet results;
   results.provenance = files.front().results.provenance;
   if (files.front().evaluations)
