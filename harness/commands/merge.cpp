@@ -1,4 +1,4 @@
-// `fx2d-bench merge OUT.h5 IN.h5...`: one sweep or stability file from the files its shards wrote
+// `fx2d-bench merge OUT.h5 IN.h5...`: one sweep, stability or run file from the files its shards wrote
 // (`--shard K/N`, common/shard.h), as if one process had run the whole work list.
 //
 // Reads top to bottom: each shard's file and what it says of its shard, the checks (one kind of
@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
+#include <numeric>
 #include <memory>
 #include <optional>
 #include <set>
@@ -71,14 +72,18 @@ std::vector<T>& column(H5Table& table, const std::string& name) {
   return const_cast<std::vector<T>&>(column<T>(std::as_const(table), "merged file", name));
 }
 
+// Where each command records its shard: sweep and stability in their own table, run in /shard.
+constexpr const char* shard_tables[] = {"/sweep", "/stability", "/shard"};
+
 ShardFile read_shard(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
   if (carries_h5_seal(path)) verify_h5_seal(path);
   ShardFile file{path, read_results_h5(path), {}, {}, {}, 0, {}};
-  const std::string kind = has_table_h5(path, "/sweep") ? "/sweep" : "/stability";
-  if (!has_table_h5(path, kind)) throw InputError(path + ": holds neither /sweep nor /stability; expected a shard of sweep or stability");
-  file.table = read_table_h5(path, kind);
-  if (kind == "/stability") file.evaluations = read_table_h5(path, "/stability/evaluations");
+  const auto kind = std::ranges::find_if(shard_tables, [&](const char* table) { return has_table_h5(path, table); });
+  if (kind == std::end(shard_tables))
+    throw InputError(path + ": holds no /sweep, /stability or /shard; expected the file of a sweep, stability or run shard");
+  file.table = read_table_h5(path, *kind);
+  if (std::string(*kind) == "/stability") file.evaluations = read_table_h5(path, "/stability/evaluations");
   file.shard = parse_shard(attribute<std::string>(file, "shard"), path + ": attribute shard");
   file.work_items = attribute<std::int32_t>(file, "work_items");
   file.work_list = attribute<std::string>(file, "work_list");
@@ -159,20 +164,28 @@ void set_attribute(H5Table& table, const std::string& name, std::variant<std::st
     if (key == name) current = value;
 }
 
-// A sweep: the runs in the merged order, the run column pointing at them, and the fronts.
-void merge_sweep(const std::vector<ShardFile>& files, const std::vector<RowSource>& rows, ResultSet& results,
-                 H5Table& table) {
-  std::vector<std::int32_t>& run = column<std::int32_t>(table, "run");
-  // Scenes in the order their first point comes, as the unsharded sweep lists them.
+// Row i's run, `run_of[i]` of its file, appended to `results` in row order, with its scene where
+// the scene first comes, as the unsharded command lists them.
+void gather_runs(const std::vector<ShardFile>& files, const std::vector<RowSource>& rows,
+                 const std::vector<std::size_t>& run_of, ResultSet& results) {
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const ShardFile& file = files[rows[i].file];
-    results.runs.push_back(file.results.runs.at(static_cast<std::size_t>(run[i])));
-    run[i] = static_cast<std::int32_t>(i);
+    if (run_of[i] >= file.results.runs.size())
+      throw InputError(file.path + ": a row names run " + std::to_string(run_of[i]) + ", which is not in /runs");
+    results.runs.push_back(file.results.runs[run_of[i]]);
     const std::string& hash = results.runs.back().scene_hash;
     const auto scene = std::ranges::find(file.results.scenes, hash, &SceneRecord::hash);
     if (scene == file.results.scenes.end()) throw InputError(file.path + ": no /scenes entry for scene hash " + hash);
     if (std::ranges::find(results.scenes, hash, &SceneRecord::hash) == results.scenes.end()) results.scenes.push_back(*scene);
   }
+}
+
+// A sweep: the runs in the merged order, the run column pointing at them, and the fronts.
+void merge_sweep(const std::vector<ShardFile>& files, const std::vector<RowSource>& rows, ResultSet& results,
+                 H5Table& table) {
+  std::vector<std::int32_t>& run = column<std::int32_t>(table, "run");
+  gather_runs(files, rows, std::vector<std::size_t>(run.begin(), run.end()), results);
+  std::iota(run.begin(), run.end(), 0);
   const std::vector<std::int32_t>& group = column<std::int32_t>(table, "pareto_group");
   const std::vector<double>& cost = column<double>(table, "ms_per_simulated_s");
   const std::vector<double>& error = column<double>(table, "primary_error");
@@ -218,6 +231,16 @@ void merge_command(const MergeOptions& options) {
   std::ranges::sort(files, {}, [](const ShardFile& file) { return file.shard.index; });
   const std::vector<RowSource> rows = rows_in_order(files);
 
+  ResultSet results;
+  results.provenance = files.front().results.provenance;
+  if (files.front().table.path == "/shard") {
+    // A run's shards: the runs in order make the file the unsharded run writes, /shard and all.
+    std::vector<std::size_t> run_of;
+    for (const RowSource& source : rows) run_of.push_back(source.row);
+    gather_runs(files, rows, run_of, results);
+    write_results_h5(results, options.out, options.force);
+    return;
+  }
   std::vector<const H5Table*> tables;
   for (const ShardFile& file : files) tables.push_back(&file.table);
   std::vector<H5Table> out{gathered(tables, rows)};
@@ -228,8 +251,6 @@ void merge_command(const MergeOptions& options) {
   for (const ShardFile& file : files)
     hosts += (hosts.empty() ? "" : "; ") + file.shard.text() + " " + file.results.provenance.hostname;
   out.front().attributes.emplace_back("shard_hosts", hosts);
-  ResultSet results;
-  results.provenance = files.front().results.provenance;
   if (files.front().evaluations)
     out.push_back(merged_evaluations(files, rows, out.front()));
   else

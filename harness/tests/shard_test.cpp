@@ -173,6 +173,29 @@ TEST(Merge, ThreeSweepShardsAsProcessesMergeToTheUnshardedSweep) {
   fs::remove_all(directory);
 }
 
+TEST(Merge, ThreeRunShardsAsProcessesMergeToTheUnshardedRunOfEveryScene) {
+  const fs::path directory = fresh_directory("run");
+  const auto [whole, merged] = unsharded_and_merged(
+      {"run", "pile", "stacks", "settling_boxes", "--bodies", "10", "--steps", "20", "--repeats", "2"}, directory);
+  const ResultSet whole_runs = read_results_h5(whole);
+  const ResultSet merged_runs = read_results_h5(merged);
+  EXPECT_FALSE(has_table_h5(merged, "/shard"));
+  EXPECT_TRUE(whole_runs.scenes == merged_runs.scenes);
+  ASSERT_EQ(whole_runs.runs.size(), 9u);
+  ASSERT_EQ(merged_runs.runs.size(), 9u);
+  for (std::size_t i = 0; i < whole_runs.runs.size(); ++i) {
+    const RunRecord& a = whole_runs.runs[i];
+    const RunRecord& b = merged_runs.runs[i];
+    EXPECT_EQ(a.engine + " " + a.scene, b.engine + " " + b.scene);
+    EXPECT_EQ(a.scene_hash, b.scene_hash);
+    EXPECT_EQ(a.state_hashes, b.state_hashes);
+    EXPECT_EQ(a.final_state_hash, b.final_state_hash);
+    EXPECT_EQ(a.accuracy, b.accuracy);
+    EXPECT_EQ(a.repeats, b.repeats);
+  }
+  fs::remove_all(directory);
+}
+
 // One line on stderr naming what is wrong, exit 2.
 void expect_refused(const Ending& ending, const std::string& says) {
   EXPECT_EQ(ending.exit_code, 2);
