@@ -59,17 +59,14 @@ const T& attribute(const ShardFile& file, const std::string& name) {
                    "; expected a file written by sweep or stability with --shard");
 }
 
-template <class T>
-const std::vector<T>& column(const H5Table& table, const std::string& path, const std::string& name) {
-  for (const H5Column& candidate : table.columns)
+// The column `name` of values of type T, of a shard's table or of the merged one (whose columns
+// are the first shard's, so `path` names that file).
+template <class T, class Table>
+auto& column(Table& table, const std::string& path, const std::string& name) {
+  for (auto& candidate : table.columns)
     if (candidate.name == name && std::holds_alternative<std::vector<T>>(candidate.values))
       return std::get<std::vector<T>>(candidate.values);
-  throw InputError(path + ": " + table.path + ": missing column " + name);
-}
-
-template <class T>
-std::vector<T>& column(H5Table& table, const std::string& name) {
-  return const_cast<std::vector<T>&>(column<T>(std::as_const(table), "merged file", name));
+  throw InputError(path + ": " + table.path + ": missing column " + name + ", or not of the type written");
 }
 
 // Where each command records its shard: sweep and stability in their own table, run in /shard.
@@ -96,6 +93,13 @@ std::string build_of(const Provenance& provenance) {
          provenance.compiler;
 }
 
+// Each column's name and type, in order: what gathering rows from several files relies on.
+std::string layout_of(const H5Table& table) {
+  std::string layout;
+  for (const H5Column& column : table.columns) layout += column.name + ":" + std::to_string(column.values.index()) + " ";
+  return layout;
+}
+
 void check_same_work(const std::vector<ShardFile>& files) {
   const ShardFile& first = files.front();
   std::set<int> shards;
@@ -104,6 +108,9 @@ void check_same_work(const std::vector<ShardFile>& files) {
       throw InputError(file.path + ": " + what + " '" + theirs + "', but " + first.path + " has '" + ours + "'");
     };
     if (file.table.path != first.table.path) refuse("table", file.table.path, first.table.path);
+    if (layout_of(file.table) != layout_of(first.table) ||
+        (file.evaluations && layout_of(*file.evaluations) != layout_of(*first.evaluations)))
+      refuse("columns", layout_of(file.table), layout_of(first.table));
     if (build_of(file.results.provenance) != build_of(first.results.provenance))
       refuse("build (revisions differ)", build_of(file.results.provenance), build_of(first.results.provenance));
     if (file.work_list != first.work_list) refuse("work list (scenes, engines or settings differ)", file.work_list, first.work_list);
@@ -183,18 +190,18 @@ void gather_runs(const std::vector<ShardFile>& files, const std::vector<RowSourc
 // A sweep: the runs in the merged order, the run column pointing at them, and the fronts.
 void merge_sweep(const std::vector<ShardFile>& files, const std::vector<RowSource>& rows, ResultSet& results,
                  H5Table& table) {
-  std::vector<std::int32_t>& run = column<std::int32_t>(table, "run");
+  std::vector<std::int32_t>& run = column<std::int32_t>(table, files.front().path, "run");
   gather_runs(files, rows, std::vector<std::size_t>(run.begin(), run.end()), results);
   std::iota(run.begin(), run.end(), 0);
-  const std::vector<std::int32_t>& group = column<std::int32_t>(table, "pareto_group");
-  const std::vector<double>& cost = column<double>(table, "ms_per_simulated_s");
-  const std::vector<double>& error = column<double>(table, "primary_error");
+  const std::vector<std::int32_t>& group = column<std::int32_t>(table, files.front().path, "pareto_group");
+  const std::vector<double>& cost = column<double>(table, files.front().path, "ms_per_simulated_s");
+  const std::vector<double>& error = column<double>(table, files.front().path, "primary_error");
   std::vector<ParetoPoint> points;
   for (std::size_t i = 0; i < rows.size(); ++i) points.push_back({group[i], cost[i], error[i]});
   const FrontMarks marks = mark_fronts(points);
-  std::vector<std::uint8_t>& on_front = column<std::uint8_t>(table, "on_front");
-  std::vector<std::int32_t>& front_rank = column<std::int32_t>(table, "front_rank");
-  std::vector<std::int32_t>& dominated_by = column<std::int32_t>(table, "dominated_by");
+  std::vector<std::uint8_t>& on_front = column<std::uint8_t>(table, files.front().path, "on_front");
+  std::vector<std::int32_t>& front_rank = column<std::int32_t>(table, files.front().path, "front_rank");
+  std::vector<std::int32_t>& dominated_by = column<std::int32_t>(table, files.front().path, "dominated_by");
   for (std::size_t i = 0; i < rows.size(); ++i) {
     on_front[i] = marks.on_front[i] ? 1 : 0;
     front_rank[i] = marks.front_rank[i];
@@ -207,15 +214,15 @@ H5Table merged_evaluations(const std::vector<ShardFile>& files, const std::vecto
   std::vector<const H5Table*> evaluation_tables;
   std::vector<RowSource> evaluation_rows;
   for (const ShardFile& file : files) evaluation_tables.push_back(&*file.evaluations);
-  std::vector<std::int32_t>& first = column<std::int32_t>(table, "first_evaluation");
-  const std::vector<std::int32_t>& count = column<std::int32_t>(table, "evaluation_count");
+  std::vector<std::int32_t>& first = column<std::int32_t>(table, files.front().path, "first_evaluation");
+  const std::vector<std::int32_t>& count = column<std::int32_t>(table, files.front().path, "evaluation_count");
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const std::size_t from = static_cast<std::size_t>(first[i]);
     first[i] = static_cast<std::int32_t>(evaluation_rows.size());
     for (std::size_t e = 0; e < static_cast<std::size_t>(count[i]); ++e) evaluation_rows.push_back({rows[i].file, from + e});
   }
   H5Table evaluations = gathered(evaluation_tables, evaluation_rows);
-  std::vector<std::int32_t>& owner = column<std::int32_t>(evaluations, "row");
+  std::vector<std::int32_t>& owner = column<std::int32_t>(evaluations, files.front().path, "row");
   for (std::size_t i = 0; i < rows.size(); ++i)
     for (std::size_t e = 0; e < static_cast<std::size_t>(count[i]); ++e)
       owner[static_cast<std::size_t>(first[i]) + e] = static_cast<std::int32_t>(i);
