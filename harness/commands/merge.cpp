@@ -125,6 +125,9 @@ std::vector<RowSource> rows_in_order(const std::vector<ShardFile>& files) {
   for (std::size_t f = 0; f < files.size(); ++f) {
     const std::vector<std::int32_t>& items = column<std::int32_t>(files[f].table, files[f].path, "work_item");
     for (std::size_t row = 0; row < items.size(); ++row) {
+      if (items[row] < 0 || items[row] >= files[f].work_items)
+        throw InputError(files[f].path + ": work item " + std::to_string(items[row]) + " is outside the work list of " +
+                         std::to_string(files[f].work_items));
       const auto [at, inserted] = by_item.try_emplace(items[row], RowSource{f, row});
       if (!inserted)
         throw InputError(files[f].path + ": work item " + std::to_string(items[row]) + " is also in " + files[at->second.file].path);
