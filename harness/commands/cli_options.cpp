@@ -109,4 +109,12 @@ std::vector<const EngineInfo*> EngineOptions::able_to_build(const SceneSpec& sce
   return able;
 }
 
+void ShardOptions::add_to(CLI::App& command) {
+  command
+      .add_option("--shard", text,
+                  "Run only part K of N of the work list, or `auto` from FX2D_SHARD_INDEX/FX2D_SHARD_COUNT or "
+                  "SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT; join the parts with `fx2d-bench merge`")
+      ->capture_default_str();
+}
+
 }  // namespace fxbench

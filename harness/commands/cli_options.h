@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/shard.h"
 #include "engines/engine.h"
 #include "scene/scene_spec.h"
 
@@ -45,6 +46,15 @@ struct EngineOptions {
  private:
   // A registry engine selected by `all` rather than by its own name.
   bool came_with_all(const EngineInfo& engine) const;
+};
+
+// --shard K/N | auto: which part of the command's work list this process runs (shard.h).
+struct ShardOptions {
+  std::string text = "1/1";
+
+  void add_to(CLI::App& command);
+  // Throws InputError for a malformed value or `auto` with no scheduler's variables set.
+  Shard shard() const { return parse_shard(text); }
 };
 
 }  // namespace fxbench

@@ -31,5 +31,7 @@ void register_ab(CLI::App& app, const std::string& command_line, int& exit_statu
 void register_gate(CLI::App& app, int& exit_status);
 // `fx2d-bench history` (history.cpp): append a night to the nightly history file, or show it.
 void register_history(CLI::App& app);
+// `fx2d-bench merge` (merge.cpp): one sweep or stability file from the files of its shards.
+void register_merge(CLI::App& app);
 
 }  // namespace fxbench

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   fxbench::register_ab(app, fxbench::join_command_line(argc, argv), status);
   fxbench::register_gate(app, status);
   fxbench::register_history(app);
+  fxbench::register_merge(app);
   try {
     app.parse(argc, argv);
     return status;

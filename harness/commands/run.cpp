@@ -17,6 +17,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <ranges>
 
 #include "commands/cli_options.h"
 #include "commands/commands.h"
@@ -27,6 +28,7 @@
 #include "measure/interrupt.h"
 #include "measure/provenance.h"
 #include "measure/runner.h"
+#include "storage/h5_tables.h"
 #include "storage/results_h5.h"
 
 namespace fxbench {
@@ -35,6 +37,7 @@ namespace {
 struct RunOptions {
   SceneOptions scenes;
   EngineOptions engines;
+  ShardOptions shard;
   RunPlan plan;
   CLI::Option* warmup_option = nullptr;
   bool json = false;
@@ -140,6 +143,42 @@ std::vector<SceneEngines> plan_engines(std::vector<SceneSpec> scenes, const Engi
   return planned;
 }
 
+// The scene x engine cells of the whole run, in the order measured: what --shard splits, each cell
+// costing bodies x planned steps, and the identity merge checks.
+struct Cells {
+  std::vector<double> costs;
+  std::string identity;
+};
+
+Cells cells_of(const std::vector<SceneEngines>& planned, const RunOptions& options) {
+  Cells cells;
+  const RunPlan& plan = options.plan;
+  std::vector<std::string> keys{"run repeats=" + std::to_string(plan.repeats) + " hash_every=" +
+                                std::to_string(plan.hash_every) + " accuracy_every=" +
+                                std::to_string(plan.accuracy_every) + " counter=" + options.counter};
+  for (const auto& [scene, engines] : planned)
+    for (const EngineInfo* engine : engines) {
+      const RunPlan scene_plan = plan_for(options, scene);
+      cells.costs.push_back(static_cast<double>(std::max(1, scene.size)) * static_cast<double>(planned_steps(scene, scene_plan)));
+      keys.push_back(scene.hash + " " + engine->name + " warmup=" + std::to_string(scene_plan.warmup_steps));
+    }
+  cells.identity = work_list_identity(keys);
+  return cells;
+}
+
+// A shard's file: the runs as usual, and /shard saying which cells they are (RESULTS_FORMAT.md).
+void write_shard_file(const ResultSet& results, const Shard& shard, const Cells& cells,
+                      const std::vector<std::size_t>& mine, const std::string& out, bool force) {
+  std::vector<std::int32_t> items;
+  for (std::size_t item : mine) items.push_back(static_cast<std::int32_t>(item));
+  const H5Table table{"/shard",
+                      {{"shard", shard.text()},
+                       {"work_items", static_cast<std::int32_t>(cells.costs.size())},
+                       {"work_list", cells.identity}},
+                      {{"work_item", "index", items}}};
+  write_results_with_tables_h5(results, std::span(&table, 1), out, force);
+}
+
 void run_command(const RunOptions& options, const std::string& command_line) {
   check_out_path(options);
   // instruction_counter.h: refuses before anything is measured when valgrind cannot run.
@@ -149,21 +188,32 @@ void run_command(const RunOptions& options, const std::string& command_line) {
   std::vector<SceneSpec> scenes = options.scenes.load();
   check_sample_budget(scenes, options);
   const std::vector<SceneEngines> planned = plan_engines(std::move(scenes), options.engines);
+  const Shard shard = options.shard.shard();
+  const Cells cells = cells_of(planned, options);
+  const std::vector<std::size_t> mine = items_of(shard, cells.costs);
+  const auto is_mine = [&](std::size_t cell) { return std::ranges::binary_search(mine, cell); };
 
   ResultSet results;
   results.provenance = collect_provenance(command_line, measure_counter_ghz());
   long total_steps = 0;
+  std::size_t cell = 0;
   for (const auto& [scene, engines] : planned)
-    total_steps += planned_steps(scene, plan_for(options, scene)) * static_cast<long>(engines.size());
+    for (std::size_t e = 0; e < engines.size(); ++e)
+      if (is_mine(cell++)) total_steps += planned_steps(scene, plan_for(options, scene));
 
   ProgressBar progress(total_steps);
   long steps_before = 0;
+  cell = 0;
   for (const auto& [scene, engines] : planned) {
     if (results.partial) break;  // interrupt.h
-    if (std::ranges::find(results.scenes, scene.hash, &SceneRecord::hash) == results.scenes.end())
+    // Unsharded, a scene no engine can build is still recorded; a shard records the scenes it ran.
+    const auto scene_cells = std::views::iota(cell, cell + engines.size());
+    if ((shard.count == 1 || std::ranges::any_of(scene_cells, is_mine)) &&
+        std::ranges::find(results.scenes, scene.hash, &SceneRecord::hash) == results.scenes.end())
       results.scenes.push_back(scene_record(scene));
     const RunPlan plan = plan_for(options, scene);
     for (const EngineInfo* engine : engines) {
+      if (!is_mine(cell++)) continue;
       RunRecord run = measure_engine(scene, *engine, plan, progress.for_run(steps_before));
       results.partial = run.repeats < plan.repeats;  // interrupt.h: only a SIGINT cuts a run short
       if (counter && !results.partial) {
@@ -184,7 +234,10 @@ void run_command(const RunOptions& options, const std::string& command_line) {
   std::cout.flush();
   // interrupt.h: a partial result never takes the final name, and replaces an older partial one.
   const std::string out = results.partial && !options.out.empty() ? options.out + ".partial.h5" : options.out;
-  if (!out.empty()) write_results_h5(results, out, options.force || results.partial);
+  if (!out.empty() && shard.count > 1 && !results.partial)
+    write_shard_file(results, shard, cells, mine, out, options.force);
+  else if (!out.empty())
+    write_results_h5(results, out, options.force || results.partial);
   if (results.partial)
     exit_after_interrupt("interrupted; " + std::to_string(results.runs.size()) + " run(s) measured so far " +
                          (out.empty() ? std::string("not saved (no --out)") : "saved to " + out));
@@ -197,6 +250,7 @@ void register_run(CLI::App& app, const std::string& command_line) {
   CLI::App* run = app.add_subcommand("run", "Time engines on scenes and measure their accuracy");
   options->scenes.add_to(*run, "pile");
   options->engines.add_to(*run);
+  options->shard.add_to(*run);
   run->add_option("--repeats", options->plan.repeats, "Timed repeats, each from a freshly built scene")
       ->check(CLI::Range(1, 100'000))
       ->capture_default_str();

@@ -18,6 +18,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "analysis/stability_costs.h"
 #include "analysis/stability_tests.h"
 #include "commands/cli_options.h"
 #include "commands/commands.h"
@@ -34,6 +35,7 @@ inline constexpr const char* stability_schema = "fx2d-bench.stability/1";
 
 struct StabilityOptions {
   EngineOptions engines;
+  ShardOptions shard;
   std::vector<std::string> tests;  // empty: the whole suite
   std::vector<std::string> sets;
   std::string suite_dir = FX2D_BENCH_STABILITY_DIR;
@@ -50,6 +52,15 @@ struct TestResult {
   std::string settings;       // the engine's /solver entry of the resolved scene, as compact JSON
   SearchResult result;
   std::vector<std::string> overrides;  // per evaluation, the --set assignments of its parameter
+  std::size_t work_item = 0;           // the pair's index in the whole work list
+};
+
+// Every engine x test pair the command would search unsharded, in that order (engine-major):
+// what --shard splits, by stability_cost, and what the file records for merge.
+struct WorkList {
+  std::vector<std::pair<const EngineInfo*, const StabilityTest*>> pairs;
+  std::vector<double> costs;
+  std::string identity;  // work_list_identity of the settings and every pair's key
 };
 
 std::vector<std::pair<std::string, std::string>> user_sets(const std::vector<std::string>& sets) {
@@ -145,7 +156,7 @@ std::string failures_of(const std::vector<TestResult>& results, const std::vecto
   return rows.empty() ? std::string() : "what failed first:\n" + aligned_columns(rows);
 }
 
-std::string table_of(const std::vector<TestResult>& results, const std::vector<const EngineInfo*>& engines,
+std::string table_of(const std::vector<TestResult>& results, const WorkList& work, const std::vector<const EngineInfo*>& engines,
                      const std::vector<const StabilityTest*>& tests) {
   std::vector<std::vector<std::string>> rows{{"test", "parameter"}};
   for (const EngineInfo* engine : engines) rows.front().push_back(engine->name);
@@ -155,7 +166,8 @@ std::string table_of(const std::vector<TestResult>& results, const std::vector<c
     for (const EngineInfo* engine : engines) {
       const auto outcome = std::ranges::find_if(
           results, [&](const TestResult& result) { return result.engine == engine && result.test == test; });
-      rows.back().push_back(outcome == results.end() ? "cannot build" : cell(*outcome));
+      const bool listed = std::ranges::find(work.pairs, std::pair{engine, test}) != work.pairs.end();
+      rows.back().push_back(outcome != results.end() ? cell(*outcome) : listed ? "other shard" : "cannot build");
     }
   }
   std::string text = aligned_columns(rows) + failures_of(results, engines, tests);
@@ -261,6 +273,7 @@ std::vector<H5Table> tables_h5(const std::vector<TestResult>& results, bool quic
             return first;
           }),
           column<std::int32_t>(results, "evaluation_count", "count", [](R r) { return r.result.evaluations.size(); }),
+          column<std::int32_t>(results, "work_item", "index", [](R r) { return r.work_item; }),
       }};
   std::vector<std::int32_t> owner;
   std::vector<double> parameter;
@@ -287,31 +300,55 @@ std::vector<H5Table> tables_h5(const std::vector<TestResult>& results, bool quic
   return {std::move(summary), std::move(evaluations)};
 }
 
+WorkList work_list_of(const StabilityOptions& options, const std::vector<const EngineInfo*>& engines,
+                      const std::vector<const StabilityTest*>& tests, const std::vector<SceneSpec>& start_scenes) {
+  std::vector<std::vector<const EngineInfo*>> able;
+  for (const SceneSpec& scene : start_scenes) able.push_back(options.engines.able_to_build(scene));
+  WorkList work;
+  std::vector<std::string> keys{std::string("stability quick=") + (options.quick ? "1" : "0")};
+  for (const std::string& set : options.sets) keys.push_back("--set " + set);
+  for (const EngineInfo* engine : engines)
+    for (std::size_t t = 0; t < tests.size(); ++t) {
+      if (std::ranges::find(able[t], engine) == able[t].end()) continue;
+      work.pairs.emplace_back(engine, tests[t]);
+      work.costs.push_back(stability_cost(tests[t]->name, engine->name));
+      keys.push_back(engine->name + " " + engine->version + " " + tests[t]->name + " " + start_scenes[t].hash);
+    }
+  work.identity = work_list_identity(keys);
+  return work;
+}
+
 void stability_command(const StabilityOptions& options, const std::string& command_line) {
   if (!options.out.empty() && !options.force && std::filesystem::exists(options.out))
     throw InputError(options.out + ": exists; pass --force to overwrite it");
   const std::vector<const EngineInfo*> engines = options.engines.selected();
   const std::vector<const StabilityTest*> tests = selected_tests(options);
+  const Shard shard = options.shard.shard();
   // Which engines can build each test's scene, settled before any search starts.
-  std::vector<std::vector<const EngineInfo*>> able(tests.size());
-  for (std::size_t t = 0; t < tests.size(); ++t)
-    able[t] = options.engines.able_to_build(
-        load_test_scene(*tests[t], options.suite_dir, user_sets(options.sets), tests[t]->search.start));
+  std::vector<SceneSpec> start_scenes;
+  for (const StabilityTest* test : tests)
+    start_scenes.push_back(load_test_scene(*test, options.suite_dir, user_sets(options.sets), test->search.start));
+  const WorkList work = work_list_of(options, engines, tests, start_scenes);
   std::vector<TestResult> results;
-  for (const EngineInfo* engine : engines)
-    for (std::size_t t = 0; t < tests.size(); ++t)
-      if (std::ranges::find(able[t], engine) != able[t].end()) results.push_back(search_test(options, *engine, *tests[t]));
+  for (std::size_t item : items_of(shard, work.costs)) {
+    results.push_back(search_test(options, *work.pairs[item].first, *work.pairs[item].second));
+    results.back().work_item = item;
+  }
   if (isatty(STDERR_FILENO) == 1) std::fputs("\r\x1b[K", stderr);
 
   if (options.json)
     std::cout << json_of(results, tests, options.quick).dump(2) << '\n';
   else
-    std::cout << table_of(results, engines, tests);
+    std::cout << table_of(results, work, engines, tests);
   std::cout.flush();
   if (options.out.empty()) return;
   ResultSet file;
   file.provenance = collect_provenance(command_line, measure_counter_ghz());
-  const std::vector<H5Table> tables = tables_h5(results, options.quick);
+  std::vector<H5Table> tables = tables_h5(results, options.quick);
+  tables.front().attributes.insert(tables.front().attributes.end(),
+                                   {{"shard", shard.text()},
+                                    {"work_items", static_cast<std::int32_t>(work.pairs.size())},
+                                    {"work_list", work.identity}});
   write_results_with_tables_h5(file, tables, options.out, options.force);
 }
 
@@ -321,6 +358,7 @@ void register_stability(CLI::App& app, const std::string& command_line) {
   auto options = std::make_shared<StabilityOptions>();
   CLI::App* stability = app.add_subcommand("stability", "Find where each engine's solver breaks, test by test");
   options->engines.add_to(*stability);
+  options->shard.add_to(*stability);
   std::vector<std::string> names;
   for (const StabilityTest& test : stability_suite()) names.push_back(test.name);
   stability->add_option("--test", options->tests, "Tests to run, comma-separated (default: all)")

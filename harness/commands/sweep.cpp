@@ -58,6 +58,7 @@ struct KnobAxis {
 struct SweepOptions {
   SceneOptions scenes;
   EngineOptions engines;
+  ShardOptions shard;
   // Grids kept small enough that the default sweep of a canonical scene at its middle size takes
   // a few minutes on two cores; see harness/README.md for the measured times.
   std::vector<KnobAxis> axes{
@@ -94,7 +95,8 @@ struct PointResult {
   double cost = 0.0;         // ms per simulated second
   double error = 0.0;        // the primary metric, worst over the sampled steps; +inf after a NaN
   AccuracySample worst;
-  int pareto_group = 0;
+  int pareto_group = 0;      // one per scene x engine of the whole plan, so shards agree
+  std::size_t work_item = 0; // the point's index in the whole plan
 };
 
 std::string metric_name(PrimaryMetric metric) {
@@ -152,6 +154,11 @@ struct EngineGrid {
   std::vector<GridPoint> points;
 };
 
+// A --dt point keeps the scene's duration: its step count scaled by the ratio of time steps.
+int steps_at(const SceneSpec& base, double dt) {
+  return dt == base.dt ? base.steps : static_cast<int>(std::max(1L, std::lround(base.steps * base.dt / dt)));
+}
+
 // The scene as `base_options` loads it, with the point's settings applied after the user's --set.
 // Only knobs that differ from the scene's own are set, so the default point is the scene itself,
 // hash included, even where the scene leaves an optional knob out.
@@ -165,9 +172,8 @@ SceneSpec load_point(const SceneOptions& base_options, const std::string& scene,
       options.sets.push_back("/solver/" + grid.engine->solver + "/" + key + "=" + std::to_string(value));
   }
   if (point.dt != base.dt) {
-    const long steps = std::max(1L, std::lround(base.steps * base.dt / point.dt));
     options.sets.push_back("/dt=" + nlohmann::json(point.dt).dump());
-    options.sets.push_back("/steps=" + std::to_string(steps));
+    options.sets.push_back("/steps=" + std::to_string(steps_at(base, point.dt)));
   }
   return options.load().front();
 }
@@ -203,13 +209,27 @@ void show_progress(std::size_t done, std::size_t total, const std::string& engin
   std::fflush(stderr);
 }
 
+// The whole plan's points in order, each with its measuring cost and its key: what --shard splits
+// and what the file records, so that merge can tell two shards of one sweep from two sweeps.
+struct WorkItem {
+  std::size_t scene = 0;
+  std::size_t grid = 0;
+  std::size_t point = 0;
+  int pareto_group = 0;
+};
+
+struct WorkList {
+  std::vector<WorkItem> items;
+  std::vector<double> costs;  // bodies x steps: what a point's measurement grows with
+  std::string identity;       // work_list_identity of every item's key
+};
+
 struct Sweep {
   ResultSet results;
   std::vector<PointResult> points;
-  std::vector<bool> on_front;
-  std::vector<std::optional<std::size_t>> dominated_by;
-  std::vector<int> front_rank;                    // position along its group's front, fastest first; -1 off it
-  std::vector<std::vector<std::size_t>> fronts;  // per Pareto group (scene x engine), fastest first
+  FrontMarks marks;  // over this shard's points only; merge recomputes them over all
+  Shard shard;
+  WorkList work;
 };
 
 struct PlannedScene {
@@ -234,46 +254,57 @@ std::vector<PlannedScene> plan_sweep(const SweepOptions& options) {
   return plan;
 }
 
-void mark_fronts(Sweep& sweep) {
+WorkList work_list_of(const std::vector<PlannedScene>& plan, int repeats) {
+  WorkList work;
+  std::vector<std::string> keys{"sweep repeats=" + std::to_string(repeats)};
+  int group = 0;
+  for (std::size_t s = 0; s < plan.size(); ++s) {
+    const PlannedScene& scene = plan[s];
+    for (std::size_t g = 0; g < scene.grids.size(); ++g, ++group) {
+      const EngineGrid& grid = scene.grids[g];
+      for (std::size_t p = 0; p < grid.points.size(); ++p) {
+        const GridPoint& point = grid.points[p];
+        work.items.push_back({s, g, p, group});
+        work.costs.push_back(static_cast<double>(std::max(1, scene.base.size)) * steps_at(scene.base, point.dt));
+        keys.push_back(scene.base.hash + " " + grid.engine->name + " " + knobs_text(point.knobs) +
+                       formatted(" dt=%.17g", point.dt));
+      }
+    }
+  }
+  work.identity = work_list_identity(keys);
+  return work;
+}
+
+void place_on_fronts(Sweep& sweep) {
   std::vector<ParetoPoint> pareto;
   for (const PointResult& point : sweep.points) pareto.push_back({point.pareto_group, point.cost, point.error});
-  sweep.on_front = pareto_front(pareto);
-  sweep.front_rank.assign(pareto.size(), -1);
-  for (std::size_t i = 0; i < pareto.size(); ++i) sweep.dominated_by.push_back(fastest_dominating(pareto, i));
-  const int groups = sweep.points.empty() ? 0 : sweep.points.back().pareto_group + 1;
-  for (int group = 0; group < groups; ++group) {
-    sweep.fronts.push_back(front_by_cost(pareto, group));
-    const std::vector<std::size_t>& front = sweep.fronts.back();
-    for (std::size_t rank = 0; rank < front.size(); ++rank) sweep.front_rank[front[rank]] = static_cast<int>(rank);
-  }
+  sweep.marks = mark_fronts(pareto);
 }
 
 Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
   const std::vector<PlannedScene> plan = plan_sweep(options);
-  std::size_t total = 0;
-  for (const PlannedScene& scene : plan)
-    for (const EngineGrid& grid : scene.grids) total += grid.points.size();
-
   Sweep sweep;
+  sweep.shard = options.shard.shard();
+  sweep.work = work_list_of(plan, options.repeats);
+  const std::vector<std::size_t> mine = items_of(sweep.shard, sweep.work.costs);
   sweep.results.provenance = collect_provenance(command_line, measure_counter_ghz());
-  int group = 0;
-  for (const PlannedScene& scene : plan) {
-    for (const EngineGrid& grid : scene.grids) {
-      for (const GridPoint& point : grid.points) {
-        const SceneSpec spec = load_point(options.scenes, scene.argument, scene.base, grid, point);
-        show_progress(sweep.points.size(), total, grid.engine->name, spec, point);
-        const RunPlan run_plan{options.repeats, 0, spec.steps, 10};
-        sweep.results.runs.push_back(measure_engine(spec, *grid.engine, run_plan));
-        sweep.results.scenes.push_back({spec.name, spec.hash, spec.resolved_json, spec.source_path,
-                                        metric_name(spec.primary_metric)});
-        sweep.points.push_back(figures_of(sweep.results.runs.back(), sweep.results.runs.size() - 1, spec, point));
-        sweep.points.back().pareto_group = group;
-      }
-      ++group;
-    }
+  for (std::size_t item : mine) {
+    const WorkItem& work = sweep.work.items[item];
+    const PlannedScene& scene = plan[work.scene];
+    const EngineGrid& grid = scene.grids[work.grid];
+    const GridPoint& point = grid.points[work.point];
+    const SceneSpec spec = load_point(options.scenes, scene.argument, scene.base, grid, point);
+    show_progress(sweep.points.size(), mine.size(), grid.engine->name, spec, point);
+    const RunPlan run_plan{options.repeats, 0, spec.steps, 10};
+    sweep.results.runs.push_back(measure_engine(spec, *grid.engine, run_plan));
+    sweep.results.scenes.push_back({spec.name, spec.hash, spec.resolved_json, spec.source_path,
+                                    metric_name(spec.primary_metric)});
+    sweep.points.push_back(figures_of(sweep.results.runs.back(), sweep.results.runs.size() - 1, spec, point));
+    sweep.points.back().pareto_group = work.pareto_group;
+    sweep.points.back().work_item = item;
   }
   if (isatty(STDERR_FILENO) == 1) std::fputs("\r\x1b[K", stderr);
-  mark_fronts(sweep);
+  place_on_fronts(sweep);
   return sweep;
 }
 
@@ -290,7 +321,7 @@ std::string table_of(const Sweep& sweep) {
                     formatted("%.2f", point.worst.max_penetration * 1e3) + (by_displacement ? "" : primary),
                     formatted("%.3f", point.worst.max_displacement) + (by_displacement ? primary : ""),
                     std::to_string(point.worst.escaped), std::to_string(point.worst.nan),
-                    sweep.on_front[i] ? "#" + std::to_string(sweep.front_rank[i] + 1) : "-",
+                    sweep.marks.on_front[i] ? "#" + std::to_string(sweep.marks.front_rank[i] + 1) : "-",
                     point.grid.is_default ? "default" : ""});
   }
   std::string text = aligned_columns(rows);
@@ -298,12 +329,12 @@ std::string table_of(const Sweep& sweep) {
     const PointResult& point = sweep.points[i];
     if (!point.grid.is_default) continue;
     text += point.scene + ", " + point.engine + " default (" + knobs_text(point.grid.knobs) + "): ";
-    if (const auto better = sweep.dominated_by[i]) {
+    if (const auto better = sweep.marks.dominated_by[i]) {
       const PointResult& other = sweep.points[*better];
       text += "off its front; " + knobs_text(other.grid.knobs) + formatted(" dt=%g", other.grid.dt) +
               " is at least as accurate at " + formatted("%.0f%% of its cost\n", 100.0 * other.cost / point.cost);
     } else {
-      text += "on its front, #" + std::to_string(sweep.front_rank[i] + 1) + " from the fastest\n";
+      text += "on its front, #" + std::to_string(sweep.marks.front_rank[i] + 1) + " from the fastest\n";
     }
   }
   return text;
@@ -334,11 +365,11 @@ nlohmann::ordered_json json_of(const Sweep& sweep) {
         {"primary_error", std::isinf(point.error) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(point.error)},
         {"accuracy", accuracy_json(worst)},
         {"default", point.grid.is_default},
-        {"on_front", static_cast<bool>(sweep.on_front[i])},
-        {"dominated_by", sweep.dominated_by[i] ? nlohmann::ordered_json(*sweep.dominated_by[i]) : nlohmann::ordered_json(nullptr)},
+        {"on_front", static_cast<bool>(sweep.marks.on_front[i])},
+        {"dominated_by", sweep.marks.dominated_by[i] ? nlohmann::ordered_json(*sweep.marks.dominated_by[i]) : nlohmann::ordered_json(nullptr)},
     });
   }
-  for (const std::vector<std::size_t>& front : sweep.fronts) {
+  for (const std::vector<std::size_t>& front : sweep.marks.fronts) {
     const PointResult& first = sweep.points[front.front()];
     fronts.push_back({{"scene", first.scene}, {"engine", first.engine}, {"points", front}});
   }
@@ -362,6 +393,8 @@ H5Table table_h5(const Sweep& sweep, const SweepOptions& options) {
       column<std::string>(sweep, "engine", "", [](const PointResult& p, std::size_t) { return p.engine; }),
       column<std::string>(sweep, "settings", "", [&](const PointResult& p, std::size_t) { return run(p).engine_settings; }),
       column<std::int32_t>(sweep, "run", "index", [](const PointResult& p, std::size_t) { return p.run; }),
+      column<std::int32_t>(sweep, "work_item", "index", [](const PointResult& p, std::size_t) { return p.work_item; }),
+      column<std::int32_t>(sweep, "pareto_group", "index", [](const PointResult& p, std::size_t) { return p.pareto_group; }),
   };
   for (const KnobAxis& axis : options.axes) {
     columns.push_back(column<std::int32_t>(sweep, axis.engine + "_" + axis.key, "count", [&](const PointResult& p, std::size_t) {
@@ -390,10 +423,10 @@ H5Table table_h5(const Sweep& sweep, const SweepOptions& options) {
       column<std::int32_t>(sweep, "escaped", "bodies", [](const PointResult& p, std::size_t) { return p.worst.escaped; }),
       column<std::int32_t>(sweep, "nan", "bodies", [](const PointResult& p, std::size_t) { return p.worst.nan; }),
       column<std::uint8_t>(sweep, "is_default", "flag", [](const PointResult& p, std::size_t) { return p.grid.is_default; }),
-      column<std::uint8_t>(sweep, "on_front", "flag", [&](const PointResult&, std::size_t i) { return sweep.on_front[i]; }),
-      column<std::int32_t>(sweep, "front_rank", "rank", [&](const PointResult&, std::size_t i) { return sweep.front_rank[i]; }),
+      column<std::uint8_t>(sweep, "on_front", "flag", [&](const PointResult&, std::size_t i) { return sweep.marks.on_front[i]; }),
+      column<std::int32_t>(sweep, "front_rank", "rank", [&](const PointResult&, std::size_t i) { return sweep.marks.front_rank[i]; }),
       column<std::int32_t>(sweep, "dominated_by", "index", [&](const PointResult&, std::size_t i) {
-        return sweep.dominated_by[i] ? static_cast<int>(*sweep.dominated_by[i]) : -1;
+        return sweep.marks.dominated_by[i] ? static_cast<int>(*sweep.marks.dominated_by[i]) : -1;
       }),
   };
   columns.insert(columns.end(), std::make_move_iterator(figures.begin()), std::make_move_iterator(figures.end()));
@@ -401,7 +434,10 @@ H5Table table_h5(const Sweep& sweep, const SweepOptions& options) {
           {{"schema", std::string(sweep_schema)},
            {"repeats", static_cast<std::int32_t>(options.repeats)},
            {"interval", std::string("95% percentile bootstrap (2000 resamples) of the median of per-repeat mean ms/step")},
-           {"cost", std::string("ms_per_simulated_s = ms_per_step / dt")}},
+           {"cost", std::string("ms_per_simulated_s = ms_per_step / dt")},
+           {"shard", sweep.shard.text()},
+           {"work_items", static_cast<std::int32_t>(sweep.work.items.size())},
+           {"work_list", sweep.work.identity}},
           std::move(columns)};
 }
 
@@ -431,6 +467,7 @@ void register_sweep(CLI::App& app, const std::string& command_line) {
   CLI::App* sweep = app.add_subcommand("sweep", "Speed against accuracy over each engine's solver settings, with Pareto fronts");
   options->scenes.add_to(*sweep, "pile");
   options->engines.add_to(*sweep);
+  options->shard.add_to(*sweep);
   for (KnobAxis& axis : options->axes) {
     const std::string what = axis.engine + " " + axis.key + " values to try, comma-separated";
     CLI::Option* option = sweep->add_option(axis.flag, axis.values, axis.values.empty() ? what + " (default: not swept)" : what)

@@ -52,4 +52,21 @@ std::vector<std::size_t> front_by_cost(std::span<const ParetoPoint> points, int 
   return front;
 }
 
+FrontMarks mark_fronts(std::span<const ParetoPoint> points) {
+  FrontMarks marks;
+  marks.on_front = pareto_front(points);
+  marks.front_rank.assign(points.size(), -1);
+  for (std::size_t i = 0; i < points.size(); ++i) marks.dominated_by.push_back(fastest_dominating(points, i));
+  std::vector<int> groups;
+  for (const ParetoPoint& point : points) groups.push_back(point.group);
+  std::ranges::sort(groups);
+  groups.erase(std::unique(groups.begin(), groups.end()), groups.end());
+  for (int group : groups) {
+    marks.fronts.push_back(front_by_cost(points, group));
+    const std::vector<std::size_t>& front = marks.fronts.back();
+    for (std::size_t rank = 0; rank < front.size(); ++rank) marks.front_rank[front[rank]] = static_cast<int>(rank);
+  }
+  return marks;
+}
+
 }  // namespace fxbench

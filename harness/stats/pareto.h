@@ -32,4 +32,16 @@ std::optional<std::size_t> fastest_dominating(std::span<const ParetoPoint> point
 // this order, the errors never increase, which is the staircase a chart draws.
 std::vector<std::size_t> front_by_cost(std::span<const ParetoPoint> points, int group);
 
+// Every point's place in its group's front, as a sweep file's /sweep table stores it (and merge
+// recomputes over the merged points): on it or not, its rank along it (fastest first; -1 off
+// it), and the point that dominates it at the lowest cost. `fronts` holds each non-empty group's
+// front, groups in increasing order.
+struct FrontMarks {
+  std::vector<bool> on_front;
+  std::vector<int> front_rank;
+  std::vector<std::optional<std::size_t>> dominated_by;
+  std::vector<std::vector<std::size_t>> fronts;
+};
+FrontMarks mark_fronts(std::span<const ParetoPoint> points);
+
 }  // namespace fxbench

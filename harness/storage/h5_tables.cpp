@@ -3,6 +3,7 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <stdexcept>
 #include <utility>
@@ -113,7 +114,146 @@ class TableAppender {
   std::string path_;
 };
 
+// Reads back what TableAppender wrote: scalar attributes and one-dimensional columns.
+class TableReader {
+ public:
+  TableReader(std::string path, std::string group_path) : path_(std::move(path)), group_path_(std::move(group_path)) {}
+
+  H5Table read(hid_t file) const {
+    const H5Handle group(H5Gopen2(file, group_path_.c_str(), H5P_DEFAULT), H5Gclose);
+    if (!group.valid()) fail("no such table");
+    H5Table table{group_path_, {}, {}};
+    H5O_info_t info{};
+    if (H5Oget_info(group.get(), &info) < 0) fail("cannot read its attributes");
+    for (hsize_t i = 0; i < info.num_attrs; ++i) table.attributes.push_back(attribute(group.get(), i));
+    hsize_t links = 0;
+    H5G_info_t group_info{};
+    if (H5Gget_info(group.get(), &group_info) < 0) fail("cannot list its columns");
+    links = group_info.nlinks;
+    for (hsize_t i = 0; i < links; ++i) {
+      const std::string name = link_name(group.get(), i);
+      H5O_info_t member{};
+      if (H5Oget_info_by_name(group.get(), name.c_str(), &member, H5P_DEFAULT) < 0) fail(name + ": cannot be read");
+      if (member.type == H5O_TYPE_DATASET) table.columns.push_back(column(group.get(), name));
+    }
+    return table;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const { throw InputError(path_ + ": " + group_path_ + ": " + what); }
+
+  std::string link_name(hid_t group, hsize_t i) const {
+    const ssize_t length = H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+    if (length < 0) fail("cannot list its columns");
+    std::string name(static_cast<std::size_t>(length) + 1, '\0');
+    H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size(), H5P_DEFAULT);
+    name.resize(static_cast<std::size_t>(length));
+    return name;
+  }
+
+  std::pair<std::string, std::variant<std::string, double, std::int32_t>> attribute(hid_t owner, hsize_t i) const {
+    const H5Handle opened(H5Aopen_by_idx(owner, ".", H5_INDEX_NAME, H5_ITER_INC, i, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+    if (!opened.valid()) fail("cannot read its attributes");
+    const ssize_t length = H5Aget_name(opened.get(), 0, nullptr);
+    std::string name(static_cast<std::size_t>(std::max<ssize_t>(length, 0)) + 1, '\0');
+    H5Aget_name(opened.get(), name.size(), name.data());
+    name.resize(name.size() - 1);
+    const H5Handle type(H5Aget_type(opened.get()), H5Tclose);
+    const H5T_class_t type_class = H5Tget_class(type.get());
+    if (type_class == H5T_STRING && H5Tis_variable_str(type.get()) > 0) {
+      char* text = nullptr;
+      if (H5Aread(opened.get(), type.get(), &text) < 0) fail("attribute " + name + ": cannot be read");
+      std::string value = text != nullptr ? text : "";
+      H5free_memory(text);
+      return {name, value};
+    }
+    if (type_class == H5T_FLOAT) {
+      double value = 0;
+      if (H5Aread(opened.get(), H5T_NATIVE_DOUBLE, &value) < 0) fail("attribute " + name + ": cannot be read");
+      return {name, value};
+    }
+    if (type_class == H5T_INTEGER) {
+      std::int32_t value = 0;
+      if (H5Aread(opened.get(), H5T_NATIVE_INT32, &value) < 0) fail("attribute " + name + ": cannot be read");
+      return {name, value};
+    }
+    fail("attribute " + name + ": expected a string or a number");
+  }
+
+  template <class T>
+  std::vector<T> numbers(hid_t dataset, const std::string& name, std::size_t rows) const {
+    std::vector<T> values(rows);
+    if (rows > 0 && H5Dread(dataset, H5Stored<T>::memory_type(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0)
+      fail(name + ": cannot read its values");
+    return values;
+  }
+
+  H5Column column(hid_t group, const std::string& name) const {
+    const H5Handle dataset(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose);
+    const H5Handle type(H5Dget_type(dataset.get()), H5Tclose);
+    const H5Handle space(H5Dget_space(dataset.get()), H5Sclose);
+    hsize_t rows = 0;
+    if (!dataset.valid() || H5Sget_simple_extent_ndims(space.get()) != 1 ||
+        H5Sget_simple_extent_dims(space.get(), &rows, nullptr) < 0)
+      fail(name + ": expected a one-dimensional column");
+    H5Column column{name, units(dataset.get()), {}};
+    const H5T_class_t type_class = H5Tget_class(type.get());
+    if (type_class == H5T_STRING && H5Tis_variable_str(type.get()) > 0) {
+      std::vector<char*> raw(rows, nullptr);
+      if (rows > 0 && H5Dread(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()) < 0)
+        fail(name + ": cannot read its strings");
+      std::vector<std::string> values;
+      for (char* text : raw) {
+        values.emplace_back(text != nullptr ? text : "");
+        H5free_memory(text);
+      }
+      column.values = std::move(values);
+    } else if (type_class == H5T_FLOAT) {
+      column.values = numbers<double>(dataset.get(), name, rows);
+    } else if (type_class == H5T_INTEGER && H5Tget_size(type.get()) == 1) {
+      column.values = numbers<std::uint8_t>(dataset.get(), name, rows);
+    } else if (type_class == H5T_INTEGER) {
+      column.values = numbers<std::int32_t>(dataset.get(), name, rows);
+    } else {
+      fail(name + ": expected a column of numbers or strings");
+    }
+    return column;
+  }
+
+  static std::string units(hid_t dataset) {
+    if (H5Aexists(dataset, "units") <= 0) return {};
+    const H5Handle opened(H5Aopen(dataset, "units", H5P_DEFAULT), H5Aclose);
+    const H5Handle type(H5Aget_type(opened.get()), H5Tclose);
+    char* text = nullptr;
+    if (H5Tis_variable_str(type.get()) <= 0 || H5Aread(opened.get(), type.get(), &text) < 0) return {};
+    std::string value = text != nullptr ? text : "";
+    H5free_memory(text);
+    return value;
+  }
+
+  std::string path_;
+  std::string group_path_;
+};
+
+H5Handle open_for_reading(const std::string& path) {
+  H5Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!file.valid()) throw InputError(path + ": cannot open as an HDF5 file");
+  return file;
+}
+
 }  // namespace
+
+H5Table read_table_h5(const std::string& path, const std::string& group_path) {
+  const SilentHdf5Errors quiet;
+  const H5Handle file = open_for_reading(path);
+  return TableReader(path, group_path).read(file.get());
+}
+
+bool has_table_h5(const std::string& path, const std::string& group_path) {
+  const SilentHdf5Errors quiet;
+  const H5Handle file = open_for_reading(path);
+  return H5Lexists(file.get(), group_path.c_str(), H5P_DEFAULT) > 0;
+}
 
 void write_table_file_h5(const std::string& path, std::span<const std::pair<std::string, std::string>> root_attributes,
                          std::span<const H5Table> tables) {

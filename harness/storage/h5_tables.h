@@ -45,4 +45,14 @@ void write_results_with_tables_h5(const ResultSet& results, std::span<const H5Ta
 void write_table_file_h5(const std::string& path, std::span<const std::pair<std::string, std::string>> root_attributes,
                          std::span<const H5Table> tables);
 
+// The table at `group_path` (e.g. "/sweep") of a result file written by
+// write_results_with_tables_h5: its attributes and its columns, in the order of their names (the
+// order HDF5 lists them in); groups inside it are tables of their own and are left out. Throws
+// InputError (one line naming the file and the table) when the file, the group or a column
+// cannot be read as written.
+H5Table read_table_h5(const std::string& path, const std::string& group_path);
+
+// Whether the file at `path` holds a group `group_path`. Throws InputError when it cannot be opened.
+bool has_table_h5(const std::string& path, const std::string& group_path);
+
 }  // namespace fxbench

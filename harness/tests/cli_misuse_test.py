@@ -99,6 +99,13 @@ MISUSES = [
     Misuse("stability: an engine that cannot build the scene",
            ["stability", "--engine", "ode", "--test", "thin_wall", "--set", POLYGON_BODY],
            "engine ode cannot build polygons"),
+    # sharding and merge
+    Misuse("sweep: a shard beyond the count", ["sweep", "--shard", "3/2"], "expected K/N with 1 <= K <= N"),
+    Misuse("stability: a shard of zero", ["stability", "--shard", "0/2"], "expected K/N with 1 <= K <= N"),
+    Misuse("run: a shard without a count", ["run", "--shard", "2"], "expected K/N with 1 <= K <= N"),
+    Misuse("merge: no shard files", ["merge", "out.h5"], "IN is required"),
+    Misuse("merge: a shard that is not there", ["merge", "out.h5", "nosuch.h5"], "nosuch.h5: no such file"),
+    Misuse("merge: a scene file as a shard", ["merge", "out.h5", "scenes/pile.json"], "pile.json"),
     # report
     Misuse("report: a scene file as results", ["report", "scenes/pile.json", "-o", "out"], "pile.json"),
     Misuse("report: no output directory", ["report", "scenes/pile.json"], "-o"),

@@ -1,0 +1,15 @@
+// What each stability test x engine pair costs to search, measured, so that `stability --shard`
+// balances its parts by time rather than by count: one pair (pyramid on ODE) takes most of the
+// suite, and a split by count would put it beside half of the rest.
+#pragma once
+
+#include <string>
+
+namespace fxbench {
+
+// Seconds the full search of `test` on `engine` took (`fx2d-bench stability --test T --engine E`,
+// process included, Release build, on the 2-core development machine). A pair missing from the
+// table (a new test, a plugin engine) costs 1 s.
+double stability_cost(const std::string& test, const std::string& engine);
+
+}  // namespace fxbench
