@@ -17,7 +17,6 @@
 #include <iostream>
 #include <memory>
 #include <optional>
-#include <ranges>
 
 #include "commands/cli_options.h"
 #include "commands/commands.h"
@@ -207,8 +206,9 @@ void run_command(const RunOptions& options, const std::string& command_line) {
   for (const auto& [scene, engines] : planned) {
     if (results.partial) break;  // interrupt.h
     // Unsharded, a scene no engine can build is still recorded; a shard records the scenes it ran.
-    const auto scene_cells = std::views::iota(cell, cell + engines.size());
-    if ((shard.count == 1 || std::ranges::any_of(scene_cells, is_mine)) &&
+    const auto first_mine = std::ranges::lower_bound(mine, cell);  // mine is sorted
+    const bool scene_is_mine = first_mine != mine.end() && *first_mine < cell + engines.size();
+    if ((shard.count == 1 || scene_is_mine) &&
         std::ranges::find(results.scenes, scene.hash, &SceneRecord::hash) == results.scenes.end())
       results.scenes.push_back(scene_record(scene));
     const RunPlan plan = plan_for(options, scene);
