@@ -30,7 +30,7 @@
 // table, but the order in which it reports pairs sets the order of the contact rows, and so changes
 // every canonical scene's trajectory and state hash (max penetration moves by 3% on pile 300, by
 // 23% on stacks 50; measured on ODE 0.16.2). To keep ODE's results comparable with every earlier
-// run, the hash space stays and larger scenes are refused (max_bodies), before anything is created.
+// run, the hash space stays and larger scenes are refused (ode_capabilities.max_bodies), before anything is created.
 #include <ode/ode.h>
 
 #include <algorithm>
@@ -53,7 +53,6 @@ constexpr dReal box_depth = 1.0;  // metres; the 2D density becomes kg/m^3 over 
 constexpr int max_contacts_per_pair = 4;
 // Box2D's b2_velocityThreshold: slower impacts are inelastic, so restitution acts alike in both.
 constexpr dReal bounce_threshold = 1.0;  // m/s
-const std::size_t max_bodies = ode_capabilities.max_bodies;
 
 void ensure_ode_ready_on_this_thread() {
   static const int initialised = dInitODE2(0);
@@ -109,6 +108,10 @@ class OdeEngine final : public Engine {
 
   void build(const SceneSpec& scene) override {
     if (!bodies_.empty()) throw std::logic_error("ode: build() called twice");
+    // Read here, not copied into a namespace-scope constant: ode_capabilities is an inline
+    // variable initialised at run time, and another translation unit's copy of it may be made
+    // before it is (Clang's build read 0).
+    const std::size_t max_bodies = ode_capabilities.max_bodies;
     if (scene.bodies.size() > max_bodies) {
       throw InputError("ode: scene '" + scene.name + "' has " + std::to_string(scene.bodies.size()) +
                        " bodies; the ODE adapter takes at most " + std::to_string(max_bodies) +
