@@ -1,34 +1,34 @@
-// Whole-file reads of user input, bounded by the bytes read; see bounded_read.h.
+// Whole-file reads of user input, bounded by the bytes read; see bounded_read.h. C's stdio, so the
+// portable part of the harness reads files the same way on every platform it is built for.
 #include "common/bounded_read.h"
-
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <system_error>
 
 #include "common/errors.h"
 
 namespace fxbench {
 namespace {
 
-// Closes the descriptor on every path out, including a throw.
-class FileDescriptor {
+// Closes the file on every path out, including a throw.
+class OpenFile {
  public:
-  explicit FileDescriptor(int fd) : fd_(fd) {}
-  FileDescriptor(const FileDescriptor&) = delete;
-  FileDescriptor& operator=(const FileDescriptor&) = delete;
-  ~FileDescriptor() {
-    if (fd_ >= 0) ::close(fd_);
+  explicit OpenFile(std::FILE* file) : file_(file) {}
+  OpenFile(const OpenFile&) = delete;
+  OpenFile& operator=(const OpenFile&) = delete;
+  ~OpenFile() {
+    if (file_ != nullptr) std::fclose(file_);
   }
-  int get() const { return fd_; }
+  std::FILE* get() const { return file_; }
 
  private:
-  int fd_;
+  std::FILE* file_;
 };
 
 std::string size_text(std::size_t bytes) {
@@ -38,15 +38,15 @@ std::string size_text(std::size_t bytes) {
 }  // namespace
 
 std::string read_bounded_file(const std::string& path, const std::string& kind, std::size_t max_bytes) {
-  const FileDescriptor file(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
-  if (file.get() < 0) throw InputError(path + ": cannot open: " + std::strerror(errno));
+  const OpenFile file(std::fopen(path.c_str(), "rb"));
+  if (file.get() == nullptr) throw InputError(path + ": cannot open: " + std::strerror(errno));
   const auto too_large = [&] {
     return InputError(path + ": more than " + size_text(max_bytes) + ", expected " + kind + " of at most " +
                       size_text(max_bytes));
   };
   // A regular file's size is known: one too large is refused without reading a byte of it.
-  struct stat status {};
-  if (::fstat(file.get(), &status) == 0 && S_ISREG(status.st_mode) && static_cast<std::uintmax_t>(status.st_size) > max_bytes)
+  std::error_code error;
+  if (std::filesystem::is_regular_file(path, error) && std::filesystem::file_size(path, error) > max_bytes && !error)
     throw too_large();
   // Room for one byte past the bound, reserved once: pages are touched only as bytes arrive, and no
   // regrowth copies the text, so the peak is the bytes read plus one chunk.
@@ -54,11 +54,11 @@ std::string read_bounded_file(const std::string& path, const std::string& kind, 
   text.reserve(max_bytes + 1);
   std::array<char, 64 * 1024> chunk;
   while (text.size() <= max_bytes) {
-    const ssize_t got = ::read(file.get(), chunk.data(), std::min(chunk.size(), max_bytes + 1 - text.size()));
-    if (got < 0 && errno == EINTR) continue;
-    if (got < 0) throw InputError(path + ": cannot read: " + std::strerror(errno));
-    if (got == 0) return text;
-    text.append(chunk.data(), static_cast<std::size_t>(got));
+    const std::size_t got = std::fread(chunk.data(), 1, std::min(chunk.size(), max_bytes + 1 - text.size()), file.get());
+    text.append(chunk.data(), got);
+    if (got > 0) continue;
+    if (std::ferror(file.get())) throw InputError(path + ": cannot read: " + std::strerror(errno));
+    return text;
   }
   throw too_large();
 }
