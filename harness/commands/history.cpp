@@ -6,11 +6,10 @@
 //
 // Reads top to bottom: the options, turning a judgement into rows, the append (crash-safe by
 // history_h5.h; a SIGINT before the new file is in place leaves the old one and exits 130), then
-// the show renderers and the command line.
+// the show (its renderers are format/history_format.h) and the command line.
 #include <signal.h>
 
 #include <chrono>
-#include <cmath>
 #include <cstdlib>
 #include <ctime>
 #include <iostream>
@@ -21,9 +20,7 @@
 #include "analysis/gate_policy.h"
 #include "commands/commands.h"
 #include "common/errors.h"
-#include "common/number_text.h"
-#include "format/gate_format.h"
-#include "format/text_table.h"
+#include "format/history_format.h"
 #include "measure/interrupt.h"
 #include "storage/history_h5.h"
 
@@ -128,33 +125,6 @@ std::span<const HistoryRow> last_nights(const std::vector<HistoryRow>& rows, int
     if (first == 0 || rows[first - 1].date_utc != rows[first].date_utc) ++seen;
   }
   return std::span(rows).subspan(first);
-}
-
-std::string history_table(std::span<const HistoryRow> rows) {
-  std::vector<std::vector<std::string>> cells{{"date (UTC)", "candidate", "baseline", "engine", "scene", "bodies",
-                                               "metric", "ratio [95% CI]", "verdict", "step", "accepted"}};
-  for (const HistoryRow& row : rows) {
-    const std::string interval = std::isnan(row.p_value)
-                                     ? formatted("%.4f", row.ratio) + " (exact)"
-                                     : formatted("%.3f", row.ratio) + " [" + formatted("%.3f", row.ci_low) + ", " +
-                                           formatted("%.3f", row.ci_high) + "]";
-    cells.push_back({row.date_utc, row.candidate, row.baseline, row.engine, row.scene, std::to_string(row.bodies),
-                     row.metric, interval, row.verdict, row.step_detected ? "step" : "", row.accepted ? "yes" : ""});
-  }
-  return aligned_columns(cells);
-}
-
-nlohmann::ordered_json history_json(std::span<const HistoryRow> rows) {
-  nlohmann::ordered_json list = nlohmann::ordered_json::array();
-  for (const HistoryRow& row : rows) {
-    const std::optional<double> p_value = std::isnan(row.p_value) ? std::nullopt : std::optional(row.p_value);
-    nlohmann::ordered_json json = {{"date_utc", row.date_utc}, {"candidate", row.candidate}, {"baseline", row.baseline}};
-    json.update(ratio_json(row.engine, row.scene, row.bodies, row.metric, row.a, row.b, row.ratio, row.ci_low,
-                           row.ci_high, p_value));
-    json.update({{"verdict", row.verdict}, {"step_detected", row.step_detected}, {"accepted", row.accepted}});
-    list.push_back(std::move(json));
-  }
-  return {{"schema", history_schema}, {"rows", list}};
 }
 
 void show_command(const ShowOptions& options) {
