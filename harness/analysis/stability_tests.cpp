@@ -402,4 +402,10 @@ std::span<const StabilityTest> stability_suite() {
   return suite;
 }
 
+Verdict first_failure(const SearchResult& result) {
+  for (const Evaluation& evaluation : result.evaluations)
+    if (result.first_fail && evaluation.parameter == *result.first_fail) return evaluation.verdict;
+  return {};
+}
+
 }  // namespace fxbench

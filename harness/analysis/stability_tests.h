@@ -147,4 +147,24 @@ SceneSpec load_test_scene(const StabilityTest& test, const std::string& suite_di
 // sampling poses at the start, every `sample_every` steps and after the last step.
 Trajectory simulate(const SceneSpec& scene, const EngineInfo& engine, int sample_every);
 
+// ---- One engine x test, searched ----
+
+// An engine and a test of the suite: one search.
+using EngineTest = std::pair<const EngineInfo*, const StabilityTest*>;
+
+// One engine's search of one test, as run: what the table, the JSON and the file report.
+struct TestResult {
+  const EngineInfo* engine = nullptr;
+  const StabilityTest* test = nullptr;
+  SearchSpec search;          // as run: the limit is the quick one under --quick
+  std::string settings;       // the engine's /solver entry of the resolved scene, as compact JSON
+  SearchResult result;
+  std::vector<std::string> overrides;  // per evaluation, the --set assignments of its parameter
+  std::size_t work_item = 0;           // the pair's index in the whole work list
+};
+
+// The verdict of the easiest value that failed: what failed first there, and when; empty when
+// nothing failed.
+Verdict first_failure(const SearchResult& result);
+
 }  // namespace fxbench

@@ -15,22 +15,10 @@
 #include <variant>
 #include <vector>
 
+#include "common/column_tables.h"
 #include "common/results.h"
 
 namespace fxbench {
-
-struct H5Column {
-  std::string name;
-  std::string units;  // stored as the dataset's `units` attribute; ignored for strings
-  std::variant<std::vector<double>, std::vector<std::int32_t>, std::vector<std::uint8_t>, std::vector<std::string>>
-      values;
-};
-
-struct H5Table {
-  std::string path;  // an absolute group path, e.g. "/stability/evaluations"; parents are created
-  std::vector<std::pair<std::string, std::variant<std::string, double, std::int32_t>>> attributes;
-  std::vector<H5Column> columns;
-};
 
 // Writes `results` as write_results_h5 does, then every table in order. Throws InputError if
 // `path` exists and `overwrite` is false, std::runtime_error if the columns of a table differ in
