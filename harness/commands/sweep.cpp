@@ -2,58 +2,37 @@
 // grid over the engine's accuracy knobs (and the time step, where asked), then finds each engine's
 // Pareto front (pareto.h) and where the scene's own settings stand on it.
 //
-// Reads top to bottom: the knob axes and options, the grid of one engine, the measurement of
-// every point (a scene reloaded with the point's settings as --set overrides, so each run records
-// the exact scene it ran and its settings, then runner.h's measure_engine), the figures of a point,
-// the fronts, then the three outputs (table, JSON `fx2d-bench.sweep/1`, HDF5 `/sweep` as in
-// harness/RESULTS_FORMAT.md).
+// Reads top to bottom: the knob axes and options, the plan (each scene's grid per engine, from
+// analysis/sweep_grid.h), the measurement of every point of this shard (a scene reloaded with the
+// point's settings as --set overrides, so each run records the exact scene it ran and its
+// settings, then runner.h's measure_engine), the fronts, then the outputs (format/sweep_format.h:
+// table, JSON `fx2d-bench.sweep/1`, HDF5 `/sweep` as in harness/RESULTS_FORMAT.md).
 //
 // Invariants: the scene's own setting of each engine is always measured, and added to the grid
 // when the grid lacks it; every point of one scene simulates the same duration (a --dt point
-// scales the step count); a point's cost is its median ms per step over dt (ms per simulated
-// second), so points with different time steps compare like for like; its error is the scene's
-// primary metric, the worst over the sampled steps, and +infinity when any body went NaN.
+// scales the step count).
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <optional>
 
-#include "analysis/summary.h"
+#include "analysis/sweep_grid.h"
 #include "commands/cli_options.h"
 #include "commands/commands.h"
 #include "common/errors.h"
 #include "common/number_text.h"
-#include "format/summary_format.h"
-#include "format/text_table.h"
+#include "format/sweep_format.h"
 #include "measure/clocks.h"
 #include "measure/provenance.h"
 #include "measure/runner.h"
-#include "stats/pareto.h"
-#include "stats/statistics.h"
 #include "storage/h5_tables.h"
 
 namespace fxbench {
 namespace {
-
-inline constexpr const char* sweep_schema = "fx2d-bench.sweep/1";
-
-// One accuracy knob: an integer under /solver/<engine>/<key> of the scene format. An axis with no
-// values is not swept: its knob keeps the scene's own value and is left out of every point.
-struct KnobAxis {
-  std::string engine;
-  std::string key;
-  std::string flag;
-  int min_value = 1;  // the knob's lower bound in the scene format
-  std::vector<int> values;
-  std::optional<int> when_unset;  // an optional key's value when the scene leaves it out
-};
 
 struct SweepOptions {
   SceneOptions scenes;
@@ -76,88 +55,12 @@ struct SweepOptions {
   bool force = false;
 };
 
-using Knobs = std::vector<std::pair<std::string, int>>;  // (key, value), in axis order
-
-struct GridPoint {
-  Knobs knobs;
-  double dt = 0.0;
-  bool is_default = false;
-};
-
-struct PointResult {
-  std::string scene;
-  std::string engine;
-  GridPoint grid;
-  std::size_t run = 0;       // index into ResultSet::runs
-  PrimaryMetric metric = PrimaryMetric::penetration;
-  double ms_median = 0.0;    // median over repeats of each repeat's mean ms per step
-  Interval ms_interval;      // its percentile bootstrap interval
-  double cost = 0.0;         // ms per simulated second
-  double error = 0.0;        // the primary metric, worst over the sampled steps; +inf after a NaN
-  AccuracySample worst;
-  int pareto_group = 0;      // one per scene x engine of the whole plan, so shards agree
-  std::size_t work_item = 0; // the point's index in the whole plan
-};
-
-std::string metric_name(PrimaryMetric metric) {
-  return metric == PrimaryMetric::displacement ? "displacement" : "penetration";
-}
-
-bool swept_on(const KnobAxis& axis, const std::string& engine) { return axis.engine == engine && !axis.values.empty(); }
-
-// The scene's own value of each swept knob of `engine`: what the resolved scene holds under
-// /solver, or the engine's default for an optional key the scene leaves out.
-Knobs default_knobs(const SceneSpec& scene, const std::vector<KnobAxis>& axes, const std::string& engine) {
-  const auto settings = nlohmann::json::parse(scene.resolved_json).at("solver").at(engine);
-  Knobs knobs;
-  for (const KnobAxis& axis : axes) {
-    if (!swept_on(axis, engine)) continue;
-    knobs.emplace_back(axis.key, settings.contains(axis.key) ? settings.at(axis.key).get<int>() : axis.when_unset.value());
-  }
-  return knobs;
-}
-
-// Every combination of the engine's axes, first axis slowest, then the default when missing; the
-// whole once per time step; then the scene's own point when no time step asked is the scene's.
-std::vector<GridPoint> grid_of(const std::vector<KnobAxis>& axes, const std::string& engine, const Knobs& defaults,
-                               const std::vector<double>& dts, double scene_dt) {
-  std::vector<Knobs> combinations{{}};
-  for (const KnobAxis& axis : axes) {
-    if (!swept_on(axis, engine)) continue;
-    std::vector<Knobs> extended;
-    for (const Knobs& partial : combinations)
-      for (int value : axis.values) {
-        Knobs knobs = partial;
-        knobs.emplace_back(axis.key, value);
-        extended.push_back(std::move(knobs));
-      }
-    combinations = std::move(extended);
-  }
-  if (std::ranges::find(combinations, defaults) == combinations.end()) combinations.push_back(defaults);
-  std::vector<GridPoint> grid;
-  for (double dt : dts.empty() ? std::vector<double>{scene_dt} : dts)
-    for (const Knobs& knobs : combinations) grid.push_back({knobs, dt, knobs == defaults && dt == scene_dt});
-  if (std::ranges::none_of(grid, &GridPoint::is_default)) grid.push_back({defaults, scene_dt, true});
-  return grid;
-}
-
-std::string knobs_text(const Knobs& knobs) {
-  std::string text;
-  for (const auto& [key, value] : knobs) text += (text.empty() ? "" : " ") + key + "=" + std::to_string(value);
-  return text;
-}
-
 // One engine's grid on one scene, and the scene's own value of each of its swept knobs.
 struct EngineGrid {
   const EngineInfo* engine;
   Knobs defaults;
   std::vector<GridPoint> points;
 };
-
-// A --dt point keeps the scene's duration: its step count scaled by the ratio of time steps.
-int steps_at(const SceneSpec& base, double dt) {
-  return dt == base.dt ? base.steps : static_cast<int>(std::max(1L, std::lround(base.steps * base.dt / dt)));
-}
 
 // The scene as `base_options` loads it, with the point's settings applied after the user's --set.
 // Only knobs that differ from the scene's own are set, so the default point is the scene itself,
@@ -178,28 +81,6 @@ SceneSpec load_point(const SceneOptions& base_options, const std::string& scene,
   return options.load().front();
 }
 
-PointResult figures_of(const RunRecord& run, std::size_t run_index, const SceneSpec& scene, const GridPoint& point) {
-  PointResult result;
-  result.scene = scene.name;
-  result.engine = run.engine;
-  result.grid = point;
-  result.run = run_index;
-  result.metric = scene.primary_metric;
-  const std::vector<double> repeat_means = row_means(run.wall_ms, static_cast<std::size_t>(run.steps));
-  // A bootstrap of median(B) / median({1}) is the bootstrap of median(B) itself: the resampled
-  // one-element A is always 1.
-  const std::vector<double> unit{1.0};
-  const RatioEstimate estimate = bootstrap_median_ratio(unit, repeat_means);
-  result.ms_median = estimate.ratio;
-  result.ms_interval = estimate.ci;
-  result.cost = result.ms_median / point.dt;
-  result.worst = summarise(run).worst;
-  const double metric = scene.primary_metric == PrimaryMetric::displacement ? result.worst.max_displacement
-                                                                             : result.worst.max_penetration;
-  result.error = result.worst.nan > 0 ? std::numeric_limits<double>::infinity() : metric;
-  return result;
-}
-
 // Shows "point k of n" on stderr, redrawn in place, only when stderr is a terminal.
 void show_progress(std::size_t done, std::size_t total, const std::string& engine, const SceneSpec& scene,
                    const GridPoint& point) {
@@ -208,29 +89,6 @@ void show_progress(std::size_t done, std::size_t total, const std::string& engin
                knobs_text(point.knobs).c_str(), point.dt);
   std::fflush(stderr);
 }
-
-// The whole plan's points in order, each with its measuring cost and its key: what --shard splits
-// and what the file records, so that merge can tell two shards of one sweep from two sweeps.
-struct WorkItem {
-  std::size_t scene = 0;
-  std::size_t grid = 0;
-  std::size_t point = 0;
-  int pareto_group = 0;
-};
-
-struct WorkList {
-  std::vector<WorkItem> items;
-  std::vector<double> costs;  // bodies x steps: what a point's measurement grows with
-  std::string identity;       // work_list_identity of every item's key
-};
-
-struct Sweep {
-  ResultSet results;
-  std::vector<PointResult> points;
-  FrontMarks marks;  // over this shard's points only; merge recomputes them over all
-  Shard shard;
-  WorkList work;
-};
 
 struct PlannedScene {
   std::string argument;
@@ -275,12 +133,6 @@ WorkList work_list_of(const std::vector<PlannedScene>& plan, int repeats) {
   return work;
 }
 
-void place_on_fronts(Sweep& sweep) {
-  std::vector<ParetoPoint> pareto;
-  for (const PointResult& point : sweep.points) pareto.push_back({point.pareto_group, point.cost, point.error});
-  sweep.marks = mark_fronts(pareto);
-}
-
 Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
   const std::vector<PlannedScene> plan = plan_sweep(options);
   Sweep sweep;
@@ -308,147 +160,14 @@ Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
   return sweep;
 }
 
-std::string table_of(const Sweep& sweep) {
-  std::vector<std::vector<std::string>> rows = {{"scene", "engine", "settings", "dt s", "ms/step [95% CI]",
-                                                 "max pen mm", "max disp m", "escaped", "nan", "front", "default"}};
-  for (std::size_t i = 0; i < sweep.points.size(); ++i) {
-    const PointResult& point = sweep.points[i];
-    const std::string primary = " (primary)";
-    const bool by_displacement = point.metric == PrimaryMetric::displacement;
-    rows.push_back({point.scene, point.engine, knobs_text(point.grid.knobs), formatted("%.5g", point.grid.dt),
-                    formatted("%.3f", point.ms_median) + formatted(" [%.3f", point.ms_interval.low) +
-                        formatted("-%.3f]", point.ms_interval.high),
-                    formatted("%.2f", point.worst.max_penetration * 1e3) + (by_displacement ? "" : primary),
-                    formatted("%.3f", point.worst.max_displacement) + (by_displacement ? primary : ""),
-                    std::to_string(point.worst.escaped), std::to_string(point.worst.nan),
-                    sweep.marks.on_front[i] ? "#" + std::to_string(sweep.marks.front_rank[i] + 1) : "-",
-                    point.grid.is_default ? "default" : ""});
-  }
-  std::string text = aligned_columns(rows);
-  for (std::size_t i = 0; i < sweep.points.size(); ++i) {
-    const PointResult& point = sweep.points[i];
-    if (!point.grid.is_default) continue;
-    text += point.scene + ", " + point.engine + " default (" + knobs_text(point.grid.knobs) + "): ";
-    if (const auto better = sweep.marks.dominated_by[i]) {
-      const PointResult& other = sweep.points[*better];
-      text += "off its front; " + knobs_text(other.grid.knobs) + formatted(" dt=%g", other.grid.dt) +
-              " is at least as accurate at " + formatted("%.0f%% of its cost\n", 100.0 * other.cost / point.cost);
-    } else {
-      text += "on its front, #" + std::to_string(sweep.marks.front_rank[i] + 1) + " from the fastest\n";
-    }
-  }
-  return text;
-}
-
-nlohmann::ordered_json json_of(const Sweep& sweep) {
-  nlohmann::ordered_json points = nlohmann::ordered_json::array();
-  nlohmann::ordered_json fronts = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < sweep.points.size(); ++i) {
-    const PointResult& point = sweep.points[i];
-    const RunRecord& run = sweep.results.runs[point.run];
-    nlohmann::ordered_json settings = nlohmann::ordered_json::object();
-    for (const auto& [key, value] : point.grid.knobs) settings[key] = value;
-    const AccuracySample& worst = point.worst;
-    points.push_back({
-        {"index", i},
-        {"scene", point.scene},
-        {"scene_hash", run.scene_hash},
-        {"bodies", run.bodies},
-        {"engine", point.engine},
-        {"settings", settings},
-        {"dt", point.grid.dt},
-        {"steps", run.steps},
-        {"repeats", run.repeats},
-        {"ms_per_step", {{"median", point.ms_median}, {"ci_low", point.ms_interval.low}, {"ci_high", point.ms_interval.high}}},
-        {"ms_per_simulated_s", point.cost},
-        {"primary_metric", metric_name(point.metric)},
-        {"primary_error", std::isinf(point.error) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(point.error)},
-        {"accuracy", accuracy_json(worst)},
-        {"default", point.grid.is_default},
-        {"on_front", static_cast<bool>(sweep.marks.on_front[i])},
-        {"dominated_by", sweep.marks.dominated_by[i] ? nlohmann::ordered_json(*sweep.marks.dominated_by[i]) : nlohmann::ordered_json(nullptr)},
-    });
-  }
-  for (const std::vector<std::size_t>& front : sweep.marks.fronts) {
-    const PointResult& first = sweep.points[front.front()];
-    fronts.push_back({{"scene", first.scene}, {"engine", first.engine}, {"points", front}});
-  }
-  return {{"schema", sweep_schema}, {"points", points}, {"fronts", fronts}};
-}
-
-// Named columns of one row per point, from field(point, index).
-template <class T, class Field>
-H5Column column(const Sweep& sweep, std::string name, std::string units, Field field) {
-  std::vector<T> values;
-  for (std::size_t i = 0; i < sweep.points.size(); ++i) values.push_back(static_cast<T>(field(sweep.points[i], i)));
-  return {std::move(name), std::move(units), std::move(values)};
-}
-
-H5Table table_h5(const Sweep& sweep, const SweepOptions& options) {
-  const auto run = [&](const PointResult& point) -> const RunRecord& { return sweep.results.runs[point.run]; };
-  std::vector<H5Column> columns{
-      column<std::string>(sweep, "scene", "", [](const PointResult& p, std::size_t) { return p.scene; }),
-      column<std::string>(sweep, "scene_hash", "", [&](const PointResult& p, std::size_t) { return run(p).scene_hash; }),
-      column<std::int32_t>(sweep, "bodies", "bodies", [&](const PointResult& p, std::size_t) { return run(p).bodies; }),
-      column<std::string>(sweep, "engine", "", [](const PointResult& p, std::size_t) { return p.engine; }),
-      column<std::string>(sweep, "settings", "", [&](const PointResult& p, std::size_t) { return run(p).engine_settings; }),
-      column<std::int32_t>(sweep, "run", "index", [](const PointResult& p, std::size_t) { return p.run; }),
-      column<std::int32_t>(sweep, "work_item", "index", [](const PointResult& p, std::size_t) { return p.work_item; }),
-      column<std::int32_t>(sweep, "pareto_group", "index", [](const PointResult& p, std::size_t) { return p.pareto_group; }),
-  };
-  for (const KnobAxis& axis : options.axes) {
-    columns.push_back(column<std::int32_t>(sweep, axis.engine + "_" + axis.key, "count", [&](const PointResult& p, std::size_t) {
-      for (const auto& [key, value] : p.grid.knobs)
-        if (p.engine == axis.engine && key == axis.key) return value;
-      return -1;
-    }));
-  }
-  const auto worst = [](double AccuracySample::*field) {
-    return [field](const PointResult& p, std::size_t) { return p.worst.*field; };
-  };
-  std::vector<H5Column> figures{
-      column<double>(sweep, "dt", "s", [](const PointResult& p, std::size_t) { return p.grid.dt; }),
-      column<std::int32_t>(sweep, "steps", "step", [&](const PointResult& p, std::size_t) { return run(p).steps; }),
-      column<double>(sweep, "ms_per_step", "ms", [](const PointResult& p, std::size_t) { return p.ms_median; }),
-      column<double>(sweep, "ms_per_step_ci_low", "ms", [](const PointResult& p, std::size_t) { return p.ms_interval.low; }),
-      column<double>(sweep, "ms_per_step_ci_high", "ms", [](const PointResult& p, std::size_t) { return p.ms_interval.high; }),
-      column<double>(sweep, "ms_per_simulated_s", "ms/s", [](const PointResult& p, std::size_t) { return p.cost; }),
-      column<std::string>(sweep, "primary_metric", "", [](const PointResult& p, std::size_t) { return metric_name(p.metric); }),
-      column<double>(sweep, "primary_error", "m", [](const PointResult& p, std::size_t) { return p.error; }),
-      column<double>(sweep, "max_penetration", "m", worst(&AccuracySample::max_penetration)),
-      column<double>(sweep, "mean_penetration", "m", worst(&AccuracySample::mean_penetration)),
-      column<double>(sweep, "max_displacement", "m", worst(&AccuracySample::max_displacement)),
-      column<double>(sweep, "max_lateral_drift", "m", worst(&AccuracySample::max_lateral_drift)),
-      column<double>(sweep, "final_kinetic_energy", "J", worst(&AccuracySample::kinetic_energy)),
-      column<std::int32_t>(sweep, "escaped", "bodies", [](const PointResult& p, std::size_t) { return p.worst.escaped; }),
-      column<std::int32_t>(sweep, "nan", "bodies", [](const PointResult& p, std::size_t) { return p.worst.nan; }),
-      column<std::uint8_t>(sweep, "is_default", "flag", [](const PointResult& p, std::size_t) { return p.grid.is_default; }),
-      column<std::uint8_t>(sweep, "on_front", "flag", [&](const PointResult&, std::size_t i) { return sweep.marks.on_front[i]; }),
-      column<std::int32_t>(sweep, "front_rank", "rank", [&](const PointResult&, std::size_t i) { return sweep.marks.front_rank[i]; }),
-      column<std::int32_t>(sweep, "dominated_by", "index", [&](const PointResult&, std::size_t i) {
-        return sweep.marks.dominated_by[i] ? static_cast<int>(*sweep.marks.dominated_by[i]) : -1;
-      }),
-  };
-  columns.insert(columns.end(), std::make_move_iterator(figures.begin()), std::make_move_iterator(figures.end()));
-  return {"/sweep",
-          {{"schema", std::string(sweep_schema)},
-           {"repeats", static_cast<std::int32_t>(options.repeats)},
-           {"interval", std::string("95% percentile bootstrap (2000 resamples) of the median of per-repeat mean ms/step")},
-           {"cost", std::string("ms_per_simulated_s = ms_per_step / dt")},
-           {"shard", sweep.shard.text()},
-           {"work_items", static_cast<std::int32_t>(sweep.work.items.size())},
-           {"work_list", sweep.work.identity}},
-          std::move(columns)};
-}
-
 void sweep_command(const SweepOptions& options, const std::string& command_line) {
   if (!options.out.empty() && !options.force && std::filesystem::exists(options.out))
     throw InputError(options.out + ": exists; pass --force to overwrite it");
   const Sweep sweep = run_sweep(options, command_line);
   if (options.json)
-    std::cout << json_of(sweep).dump(2) << '\n';
+    std::cout << sweep_json(sweep).dump(2) << '\n';
   else
-    std::cout << table_of(sweep);
+    std::cout << sweep_table(sweep);
   std::cout.flush();
   if (options.out.empty()) return;
   ResultSet results = sweep.results;
@@ -456,7 +175,7 @@ void sweep_command(const SweepOptions& options, const std::string& command_line)
   for (SceneRecord& scene : results.scenes)
     if (std::ranges::find(unique, scene.hash, &SceneRecord::hash) == unique.end()) unique.push_back(std::move(scene));
   results.scenes = std::move(unique);
-  const H5Table table = table_h5(sweep, options);
+  const H5Table table = sweep_table_h5(sweep, options.axes, options.repeats);
   write_results_with_tables_h5(results, std::span(&table, 1), options.out, options.force);
 }
 
