@@ -273,7 +273,9 @@ def stability_cells(tables):
                 cells[(row, test)] = (0.0, "fails at start")
                 continue
             score = _search_score(boundary, float(c["start"][i]), float(c["limit"][i]), c["scale"][i] == "geometric")
-            text = f"{'≥ ' if c['outcome'][i] == 'holds_to_limit' else ''}{boundary:.3g}"
+            prefix = "≥ " if c["outcome"][i] in ("holds_to_limit", "engine_limit") else ""
+            suffix = " (engine limit)" if c["outcome"][i] == "engine_limit" else ""
+            text = f"{prefix}{boundary:.3g}{suffix}"
             cells[(row, test)] = (score, text)
     return rows, tests, cells
 
@@ -289,16 +291,20 @@ def stability_section(files, out_dir):
     for t in tables:
         c = t.columns
         for i in range(len(t)):
+            # Files written before the criterion and step were recorded have neither column.
+            criterion = c["failed_criterion"][i] if "failed_criterion" in c else ""
+            step = int(c["failed_step"][i]) if "failed_step" in c else -1
             failures.append([chip(c["engine"][i]), esc(c["test"][i]), esc(c["outcome"][i].replace("_", " ")),
                              number(float(c["last_pass"][i])), number(float(c["first_fail"][i])),
-                             esc(c["failure"][i])])
+                             esc(criterion), str(step) if step >= 0 else "", esc(c["failure"][i])])
     quick = any(int(t.attributes.get("quick", 0)) for t in tables)
     return (figure(name, "Each cell is the hardest stress value that still passed (≥: held up to the search "
                          "limit); its colour is where that lies in the test's searched range, from the easiest "
                          "value (0) to the hardest (1), on a log scale for a geometric search.")
             + (note("Searched with <code>--quick</code>: limits are lower than the full suite's.") if quick else "")
-            + "<details><summary>Why each first failed</summary>"
-            + table(["engine", "test", "outcome", "last pass", "first fail", "failure"], failures) + "</details>")
+            + "<details open><summary>What failed first, for each engine and test</summary>"
+            + table(["engine", "test", "outcome", "last pass", "first fail", "criterion", "at step", "failure"],
+                    failures) + "</details>")
 
 
 def history_section(files, out_dir):

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
 #include <string>
@@ -357,3 +358,29 @@ TEST_F(ReportRefusals, MissingPythonModuleNamesTheDebianPackages) {
 }
 
 }  // namespace
+
+// Only the scratch directory of the refusals: a report of a stability search of its own.
+using ReportOfStability = ReportRefusals;
+
+// The stability section says, for each engine and test that failed, which criterion failed first
+// and at which step, as `stability --json` records them.
+TEST_F(ReportOfStability, SaysWhichCriterionFailedFirstAndAtWhichStep) {
+  const fs::path file = scratch_ / "stability.h5";
+  const Outcome searched =
+      shell(bench("stability --quick --engine fx2d,box2d --test chain_load --json --out " + file.string()), scratch_);
+  ASSERT_EQ(searched.exit_code, 0) << searched.err;
+  const Outcome reported = shell(bench("report " + file.string() + " -o " + (scratch_ / "out").string()), scratch_);
+  ASSERT_EQ(reported.exit_code, 0) << reported.err;
+  const std::string html = read_text(scratch_ / "out" / "index.html");
+  const nlohmann::json results = nlohmann::json::parse(searched.out).at("results");
+  int failures = 0;
+  for (const nlohmann::json& result : results) {
+    if (result.at("failed_step").is_null()) continue;
+    ++failures;
+    const std::string row_end = "<td>" + result.at("failed_criterion").get<std::string>() + "</td><td>" +
+                                std::to_string(result.at("failed_step").get<int>()) + "</td><td>" +
+                                result.at("failure").get<std::string>() + "</td></tr>";
+    EXPECT_NE(html.find(row_end), std::string::npos) << result.at("engine") << ": " << row_end;
+  }
+  EXPECT_GT(failures, 0) << "chain_load's quick search failed nowhere: the test checks nothing";
+}
