@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "bench_process.h"
-#include "json_golden.h"
+#include "tests/support/bench_process.h"
+#include "tests/support/json_golden.h"
 
 namespace fxbench {
 namespace {

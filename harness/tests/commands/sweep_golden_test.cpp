@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "bench_process.h"
-#include "json_golden.h"
+#include "tests/support/bench_process.h"
+#include "tests/support/json_golden.h"
 
 namespace fxbench {
 namespace {

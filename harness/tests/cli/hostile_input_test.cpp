@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "bench_process.h"
+#include "tests/support/bench_process.h"
 #include "storage/file_integrity.h"
 
 namespace fxbench {

@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-#include "bench_process.h"
+#include "tests/support/bench_process.h"
 
 namespace fxbench {
 namespace {

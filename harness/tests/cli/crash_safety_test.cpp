@@ -23,7 +23,7 @@
 #include <thread>
 #include <vector>
 
-#include "bench_process.h"
+#include "tests/support/bench_process.h"
 #include "storage/results_h5.h"
 
 namespace fxbench {

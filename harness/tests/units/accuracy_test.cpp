@@ -18,8 +18,8 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "counting_allocator.h"
-#include "spec_builders.h"
+#include "tests/support/counting_allocator.h"
+#include "tests/support/spec_builders.h"
 
 
 namespace fxbench {

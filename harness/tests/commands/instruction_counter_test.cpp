@@ -19,7 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "bench_process.h"
+#include "tests/support/bench_process.h"
 #include "common/errors.h"
 #include "scene/scene_loader.h"
 #include "storage/results_h5.h"

@@ -26,7 +26,7 @@
 #include <random>
 #include <thread>
 
-#include "bench_process.h"
+#include "tests/support/bench_process.h"
 #include "common/errors.h"
 #include "storage/file_integrity.h"
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <string>
 
-#include "counting_allocator.h"
+#include "tests/support/counting_allocator.h"
 #include "engines/engines.h"
 #include "scene/scene_loader.h"
 

@@ -17,9 +17,9 @@
 #include "engines/engines.h"
 #include "engines/plugin_engine.h"
 #include "metrics/accuracy.h"
-#include "plugin_copies.h"
+#include "tests/support/plugin_copies.h"
 #include "scene/scene_loader.h"
-#include "spec_builders.h"
+#include "tests/support/spec_builders.h"
 
 namespace fxbench {
 namespace {

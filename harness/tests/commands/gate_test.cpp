@@ -15,7 +15,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "bench_process.h"
+#include "tests/support/bench_process.h"
 #include "stats/statistics.h"
 
 namespace fxbench {

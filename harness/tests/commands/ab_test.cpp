@@ -17,11 +17,11 @@
 #include <vector>
 
 #include "analysis/compare.h"
-#include "bench_process.h"
+#include "tests/support/bench_process.h"
 #include "engines/plugin_engine.h"
 #include "measure/ab_builds.h"
 #include "measure/interleave.h"
-#include "plugin_copies.h"
+#include "tests/support/plugin_copies.h"
 #include "scene/scene_loader.h"
 #include "stats/statistics.h"
 #include "storage/results_h5.h"

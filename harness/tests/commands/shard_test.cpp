@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "bench_process.h"
+#include "tests/support/bench_process.h"
 #include "common/errors.h"
 #include "common/shard.h"
 #include "storage/h5_tables.h"

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "engines/engines.h"
-#include "spec_builders.h"
+#include "tests/support/spec_builders.h"
 
 namespace fxbench {
 namespace {
