@@ -41,7 +41,8 @@ MARKER = re.compile(r"(?<!`)<!--\s*doc-test:(.*?)-->", re.S)  # quoted in `code`
 # A new line, or a semicolon before a field name: a command may hold semicolons of its own.
 FIELD_SEPARATOR = re.compile(r"\n|;(?=\s*(?:ci|nightly|in source|exit=|setup:|stderr of:))")
 FENCE = re.compile(r"^(\s*)```(\w*)\s*$")
-DOCUMENTS = ("README.md", "harness/README.md", "scenes/README.md", "scenes/SCENES.md", "ci/README.md", "harness/RESULTS_FORMAT.md")
+DOCUMENTS = ("README.md", "harness/README.md", "scenes/README.md", "scenes/SCENES.md", "ci/README.md", "harness/RESULTS_FORMAT.md",
+             "reports/README.md")
 COMMAND_LANGUAGES = {"sh", "bash", "shell", "console"}
 LINKED_FROM_SOURCE = ("scenes", "ci", "harness", "reports", "fx2d")
 COMMAND_SECONDS = 1800

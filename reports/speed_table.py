@@ -1,0 +1,113 @@
+#!/usr/bin/python3
+"""Fx2D against Box2D 2.4.1 on every canonical cell: speed ratio, with sleeping on and off, and error.
+
+    /usr/bin/python3 reports/speed_table.py [--bench PATH] [--scenes pile:300,600 ...]
+        [--repeats N] [--steps N] [--cpu K] [--sleeping on,off]
+
+For every scene, size and sleeping setting, runs one `fx2d-bench run --engine fx2d,box2d --json`
+(both engines at their scene defaults, measured in the same process) and prints one Markdown row:
+the median ms per step of each, their ratio Fx2D / Box2D, Fx2D's primary error (the scene's own
+metric: displacement for stacks, penetration otherwise), and where the cell stands against the
+targets the project set for it (issue 19: a ratio at most that of the fastest single-threaded 2D
+engine measured, an error inside a ceiling). `--cpu K` pins the runs to core K (taskset).
+Exit status: 0 when every cell meets its targets, 1 when one misses, 2 for bad arguments or a run
+that failed.
+"""
+
+import argparse
+import json
+import subprocess
+import sys
+
+from default_front import CANONICAL_SIZES, parse_scenes
+
+# (scene, sizes): the ratio at most with sleeping on, off, and the primary error at most, metres.
+TARGETS = [
+    ("stacks", (50, 200, 600), 0.08, 0.20, 0.005),
+    ("pile", (300, 600, 1200), 0.38, 0.38, 0.015),
+    ("settling_boxes", (200, 800), 0.22, 0.22, 0.010),
+    ("settling_boxes", (3000,), 0.20, 0.17, 0.070),
+]
+
+
+def target(scene, bodies, sleeping):
+    for name, sizes, on, off, ceiling in TARGETS:
+        if name == scene and bodies in sizes:
+            return (on if sleeping else off), ceiling
+    return None, None
+
+
+def measure(args, scene, bodies, sleeping):
+    flag = "true" if sleeping else "false"
+    command = [args.bench, "run", scene, "--bodies", str(bodies), "--engine", "fx2d,box2d", "--json",
+               "--repeats", str(args.repeats), "--set", f"/solver/fx2d/sleeping={flag}",
+               "--set", f"/solver/box2d/sleeping={flag}"]
+    if args.steps:
+        command += ["--steps", str(args.steps)]
+    if args.cpu is not None:
+        command = ["taskset", "-c", str(args.cpu)] + command
+    done = subprocess.run(command, capture_output=True, text=True, check=False)
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(command)}: exit {done.returncode}: {done.stderr.strip()}")
+    return {run["engine"]: run for run in json.loads(done.stdout)["runs"]}
+
+
+def primary_error(run):
+    accuracy = run["accuracy"]
+    if accuracy["nan"] > 0:
+        return float("inf")
+    return accuracy["max_displacement" if run["primary_metric"] == "displacement" else "max_penetration"]
+
+
+def row(args, scene, bodies, sleeping):
+    runs = measure(args, scene, bodies, sleeping)
+    fx2d, box2d = runs["fx2d"]["ms_per_step"]["median"], runs["box2d"]["ms_per_step"]["median"]
+    ratio, error = fx2d / box2d, primary_error(runs["fx2d"])
+    ratio_target, ceiling = target(scene, bodies, sleeping)
+    missed = []
+    if ratio_target is not None and ratio > ratio_target:
+        missed.append(f"ratio {ratio / ratio_target:.2f}x its target")
+    if ceiling is not None and error > ceiling:
+        missed.append(f"error {error / ceiling:.2f}x its ceiling")
+    verdict = "no target" if ratio_target is None else ("; ".join(missed) if missed else "meets")
+    text = (f"| {scene} | {bodies} | {'on' if sleeping else 'off'} | {fx2d:.4f} | {box2d:.4f} | {ratio:.3f} | "
+            f"{'' if ratio_target is None else f'<= {ratio_target:.2f}'} | {runs['fx2d']['primary_metric']} "
+            f"{error * 1e3:.2f} mm | {'' if ceiling is None else f'<= {ceiling * 1e3:.0f} mm'} | {verdict} |")
+    return text, bool(missed)
+
+
+def sleeping_mode(text):
+    if text not in ("on", "off"):
+        raise ValueError(f"--sleeping: '{text}', expected on, off or on,off")
+    return text == "on"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--bench", default="build/release/harness/fx2d-bench")
+    parser.add_argument("--scenes", nargs="+", default=list(CANONICAL_SIZES))
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--steps", type=int, default=0, help="steps per run (default: the scene's)")
+    parser.add_argument("--cpu", type=int, help="pin every run to this core")
+    parser.add_argument("--sleeping", default="on,off", help="on, off or on,off")
+    args = parser.parse_args()
+    try:
+        cells = parse_scenes(args.scenes)
+        modes = [sleeping_mode(text) for text in args.sleeping.split(",")]
+        print("| scene | bodies | sleeping | Fx2D ms/step | Box2D ms/step | ratio | target | Fx2D error | ceiling "
+              "| verdict |")
+        print("|---|---|---|---|---|---|---|---|---|---|")
+        any_missed = False
+        for scene, bodies in cells:
+            for sleeping in modes:
+                text, missed = row(args, scene, bodies, sleeping)
+                print(text, flush=True)
+                any_missed |= missed
+    except (ValueError, RuntimeError, OSError) as failure:
+        print(f"speed_table.py: {failure}", file=sys.stderr)
+        return 2
+    return 1 if any_missed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
