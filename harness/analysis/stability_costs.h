@@ -7,9 +7,9 @@
 
 namespace fxbench {
 
-// Seconds the full search of `test` on `engine` took (`fx2d-bench stability --test T --engine E`,
-// process included, Release build, on the 2-core development machine). A pair missing from the
-// table (a new test, a plugin engine) costs 1 s.
+// User CPU seconds the full search of `test` on `engine` took (`fx2d-bench stability --test T
+// --engine E`, process included, Release build; the method is in stability_costs.cpp). A pair
+// missing from the table (a new test, a plugin engine) costs 1 s.
 double stability_cost(const std::string& test, const std::string& engine);
 
 }  // namespace fxbench

@@ -142,6 +142,16 @@ Verdict cards_stand(const SceneSpec& scene, const Trajectory& trajectory) {
   return stays_in_place(scene, trajectory, card_max_move, card_max_turn);
 }
 
+// Each judge above checks stays_in_place first, which reports the first sample where a box moved
+// or turned too far: once the samples so far show one, the whole trajectory's verdict is that.
+bool tower_collapsed(const SceneSpec& scene, const Trajectory& so_far) {
+  return !stays_in_place(scene, so_far, tower_max_move, tower_max_turn).pass;
+}
+
+bool rest_broken(const SceneSpec& scene, const Trajectory& so_far) { return !at_rest(scene, so_far).pass; }
+
+bool cards_fell(const SceneSpec& scene, const Trajectory& so_far) { return !cards_stand(scene, so_far).pass; }
+
 // The speed tests stop at the fastest body an engine builds.
 double accepted_speed(const EngineCapabilities& capabilities) { return capabilities.max_linear_speed; }
 
@@ -150,14 +160,14 @@ std::vector<StabilityTest> make_suite() {
   return {
       {"vertical_stack", "height", "boxes", "a box moves 0.5 m or turns 0.5 rad, or the top sinks 1% of the height, within 10 s",
        {4, 128, 1, Harder::increasing, Scale::linear, true}, 32, 10,
-       [](double height) { return set("/size", static_cast<int>(height)); }, tower, nullptr},
+       [](double height) { return set("/size", static_cast<int>(height)); }, tower, nullptr, tower_collapsed},
       {"pyramid", "base width", "boxes", "a box moves 0.5 m or turns 0.5 rad, or the apex sinks 1% of the height, within 5 s",
        {4, 128, 1, Harder::increasing, Scale::linear, true}, 16, 10,
-       [](double base) { return pyramid_rows(static_cast<int>(base), 0.0); }, tower, nullptr},
+       [](double base) { return pyramid_rows(static_cast<int>(base), 0.0); }, tower, nullptr, tower_collapsed},
       {"mass_ratio", "mass ratio", "heavy/light", "any box moves 0.1 m or turns 0.1 rad within 3 s (crushed through or pushed out)",
        {1, 10000, 0.1, Harder::increasing, Scale::geometric, false}, 1000, 10,
        // The heavy box has 5 times a light box's area.
-       [](double ratio) { return set("/bodies/2/material/density", ratio / 5.0); }, at_rest, nullptr},
+       [](double ratio) { return set("/bodies/2/material/density", ratio / 5.0); }, at_rest, nullptr, rest_broken},
       {"friction_ramp", "slope angle", "degrees", "a box above the friction angle slides, or one below it misses g (sin a - mu cos a) by 5%",
        {5, 40, 0.5, Harder::increasing, Scale::linear, false}, 40, 10,
        [degrees](double angle) {
@@ -190,7 +200,7 @@ std::vector<StabilityTest> make_suite() {
        [](double speed) { return set("/bodies/1/velocity", {0.0, -speed}); }, stays_on_its_side, accepted_speed},
       {"card_house", "friction", "coefficient", "any card moves 0.25 m or turns 0.35 rad within 3 s",
        {1, 0.01, 0.01, Harder::decreasing, Scale::linear, false}, 0.05, 10,
-       [](double friction) { return set("/material/friction", friction); }, cards_stand, nullptr},
+       [](double friction) { return set("/material/friction", friction); }, cards_stand, nullptr, cards_fell},
       {"chain_load", "load ratio", "load/link", "a joint's anchors drift 0.1 m apart within 3 s",
        {1, 10000, 0.1, Harder::increasing, Scale::geometric, false}, 1000, 10,
        // The load has a link's area, so its density is the ratio.
@@ -380,7 +390,8 @@ SceneSpec load_test_scene(const StabilityTest& test, const std::string& suite_di
   return load_scene_file((std::filesystem::path(suite_dir) / (test.name + ".json")).string(), overrides);
 }
 
-Trajectory simulate(const SceneSpec& scene, const EngineInfo& engine, int sample_every) {
+Trajectory simulate(const SceneSpec& scene, const EngineInfo& engine, int sample_every,
+                    const std::function<bool(const SceneSpec&, const Trajectory&)>& settled_failure) {
   const std::unique_ptr<Engine> instance = engine.make();
   instance->build(scene);
   Trajectory trajectory;
@@ -392,7 +403,9 @@ Trajectory simulate(const SceneSpec& scene, const EngineInfo& engine, int sample
   sample(0);
   for (int step = 1; step <= scene.steps; ++step) {
     instance->step();
-    if (step % sample_every == 0 || step == scene.steps) sample(step);
+    if (step % sample_every != 0 && step != scene.steps) continue;
+    sample(step);
+    if (settled_failure && settled_failure(scene, trajectory)) break;
   }
   return trajectory;
 }

@@ -131,6 +131,10 @@ struct StabilityTest {
   // The hardest parameter an engine accepts (increasing tests), or empty when any is: the search
   // stops there instead of probing values the engine refuses to build.
   std::function<double(const EngineCapabilities&)> engine_limit;
+  // Optional: true once the poses sampled so far fail the test with the very verdict the whole
+  // trajectory gets (a check the judge makes first and that reports its first failing sample), so
+  // the simulation stops there: a collapsed tower costs its first second, not its five.
+  std::function<bool(const SceneSpec&, const Trajectory&)> settled_failure = nullptr;
 };
 
 // The suite in its fixed order.
@@ -144,8 +148,10 @@ SceneSpec load_test_scene(const StabilityTest& test, const std::string& suite_di
                           const std::vector<std::pair<std::string, std::string>>& user_sets, double parameter);
 
 // Builds `scene` into a fresh instance of `engine` and steps it through scene.steps, untimed,
-// sampling poses at the start, every `sample_every` steps and after the last step.
-Trajectory simulate(const SceneSpec& scene, const EngineInfo& engine, int sample_every);
+// sampling poses at the start, every `sample_every` steps and after the last step; or up to the
+// first sample at which `settled_failure` (when given) holds.
+Trajectory simulate(const SceneSpec& scene, const EngineInfo& engine, int sample_every,
+                    const std::function<bool(const SceneSpec&, const Trajectory&)>& settled_failure = {});
 
 // ---- One engine x test, searched ----
 

@@ -2,7 +2,10 @@
 // the gating rows of comparisons (`fx2d-bench compare --json`, or the verdict `fx2d-bench ab`
 // prints) against the committed policy: each scene's own thresholds, quarantined rows dropped
 // with their reason, controls that flag a noisy machine (gate_policy.h holds the rules).
-// `--print-suite full|smoke` prints what the nightly job measures, one fact a line, for ci/nightly.
+// `--print-suite full|smoke` prints what the nightly job measures, one fact a line, for ci/nightly;
+// with `--shard K/N|auto`, only the scenes of that part of the suite (a scene and its controls are
+// one work item: the controls of a comparison run on the machine that measured it), balanced by
+// bodies, with the part and the whole suite's identity, which `ci/nightly --collect` checks.
 //
 // Reads top to bottom: the options, the suite printer, the command; the table and the JSON are
 // format/gate_format.cpp.
@@ -13,8 +16,10 @@
 #include <sstream>
 
 #include "analysis/gate_policy.h"
+#include "commands/cli_options.h"
 #include "commands/commands.h"
 #include "common/errors.h"
+#include "common/shard.h"
 #include "format/gate_format.h"
 
 namespace fxbench {
@@ -24,17 +29,26 @@ struct GateOptions {
   std::vector<std::string> compare_paths;
   std::string policy_path;
   std::string print_suite;
+  ShardOptions shard;
   bool json = false;
 };
 
 // --- the suite, for ci/nightly --------------------------------------------------------------------
 
-std::string suite_lines(const Suite& suite) {
+std::string suite_lines(const std::string& name, const Suite& suite, const Shard& shard) {
   std::string engines;
   for (const std::string& engine : suite.engines) engines += (engines.empty() ? "" : ",") + engine;
-  std::string text = "engines " + engines + "\nrounds " + std::to_string(suite.rounds) + "\nsteps " +
-                     std::to_string(suite.steps) + "\n";
-  for (const SuiteScene& scene : suite.scenes) text += "scene " + scene.scene + " " + std::to_string(scene.bodies) + "\n";
+  const std::string settings = "engines " + engines + "\nrounds " + std::to_string(suite.rounds) + "\nsteps " +
+                               std::to_string(suite.steps) + "\n";
+  std::vector<std::string> keys{"nightly " + name + "\n" + settings};
+  std::vector<double> costs;
+  for (const SuiteScene& scene : suite.scenes) {
+    keys.push_back(scene.scene + " " + std::to_string(scene.bodies));
+    costs.push_back(scene.bodies);
+  }
+  std::string text = settings + "shard " + shard.text() + "\nwork_items " + std::to_string(costs.size()) +
+                     "\nwork_list " + work_list_identity(keys) + "\n";
+  for (std::size_t item : items_of(shard, costs)) text += "scene " + keys[item + 1] + "\n";
   return text;
 }
 
@@ -43,7 +57,8 @@ std::string suite_lines(const Suite& suite) {
 ExitCode gate_command(const GateOptions& options) {
   const Policy policy = read_policy(options.policy_path);
   if (!options.print_suite.empty()) {
-    std::cout << suite_lines(options.print_suite == "smoke" ? policy.smoke : policy.suite);
+    const Suite& suite = options.print_suite == "smoke" ? policy.smoke : policy.suite;
+    std::cout << suite_lines(options.print_suite, suite, options.shard.shard());
     return exit_ok;
   }
   if (options.compare_paths.empty()) throw InputError("gate: give COMPARE.json to judge, or --print-suite full|smoke");
@@ -66,9 +81,11 @@ void register_gate(CLI::App& app, int& exit_status) {
                        "JSON of `fx2d-bench compare --json` (or of `ab --json`); several are judged as one night");
   gate->add_option("--policy", options->policy_path, "Gating policy (fx2d-bench.gating/1, e.g. ci/gating.json)")
       ->required();
-  gate->add_option("--print-suite", options->print_suite, "Print the suite the nightly job measures, one fact a line")
+  CLI::Option* print_suite = gate->add_option("--print-suite", options->print_suite, "Print the suite the nightly job measures, one fact a line")
       ->check(CLI::IsMember({"full", "smoke"}))
       ->excludes(compare);
+  options->shard.add_to(*gate);
+  gate->get_option("--shard")->needs(print_suite);
   gate->add_flag("--json", options->json, "Print one JSON object (fx2d-bench.gate/1)");
   gate->callback([options, &exit_status] { exit_status = gate_command(*options); });
 }

@@ -85,7 +85,7 @@ TestResult search_test(const StabilityOptions& options, const EngineInfo& engine
     // stops holding.
     if (const std::optional<std::string> missing = missing_capability(engine.capabilities, scene))
       return Verdict{false, engine.name + " cannot build " + *missing, "cannot_build", std::nullopt};
-    return test.judge(scene, simulate(scene, engine, test.sample_every));
+    return test.judge(scene, simulate(scene, engine, test.sample_every, test.settled_failure));
   };
   const bool capped = test.engine_limit && test.engine_limit(engine.capabilities) < outcome.search.limit;
   if (capped) outcome.search.limit = test.engine_limit(engine.capabilities);

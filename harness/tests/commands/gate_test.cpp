@@ -14,6 +14,9 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "tests/support/bench_process.h"
 #include "stats/statistics.h"
@@ -320,6 +323,8 @@ TEST_F(GateCommand, EveryMisuseIsOneLineAndExitCodeTwo) {
       {{compare, "--policy", policy, "--print-suite", "full"}, "excludes"},               // conflicting options
       {{"--policy", policy, "--print-suite", "nightly"}, "--print-suite"},
       {{"--policy", policy}, "gate: give COMPARE.json to judge"},
+      {{compare, "--policy", policy, "--shard", "1/2"}, "--shard requires --print-suite"},
+      {{"--policy", policy, "--print-suite", "full", "--shard", "3/2"}, "--shard"},
   };
   for (const auto& [arguments, expected] : misuses) {
     const bench_test::Ending ending = gate(arguments);
@@ -342,7 +347,35 @@ TEST_F(GateCommand, BadPolicyIsOneLineAndExitCodeTwo) {
 TEST_F(GateCommand, PrintsTheSuiteForTheNightlyScript) {
   const bench_test::Ending ending = gate({"--policy", (directory_ / "policy.json").string(), "--print-suite", "full"});
   EXPECT_EQ(ending.exit_code, 0) << ending.err;
-  EXPECT_EQ(ending.out, "engines fx2d,box2d,ode\nrounds 8\nsteps 50\nscene pile 600\n");
+  const std::string settings = "engines fx2d,box2d,ode\nrounds 8\nsteps 50\nshard 1/1\nwork_items 1\nwork_list ";
+  EXPECT_EQ(ending.out.substr(0, settings.size()), settings) << ending.out;
+  EXPECT_TRUE(ending.out.ends_with("\nscene pile 600\n")) << ending.out;
+}
+
+// The lines of `out` that start with `prefix`, the prefix dropped.
+std::vector<std::string> lines_of(const std::string& out, const std::string& prefix) {
+  std::vector<std::string> lines;
+  std::istringstream stream(out);
+  for (std::string line; std::getline(stream, line);)
+    if (line.starts_with(prefix)) lines.push_back(line.substr(prefix.size()));
+  return lines;
+}
+
+// Two shards of the committed suite (pile 600, stacks 200, settling_boxes 800) hold every scene
+// once, balanced by bodies (800 against 600 + 200), under one identity of the whole suite.
+TEST_F(GateCommand, PrintsOneShardOfTheSuiteBalancedByBodies) {
+  const std::string policy = std::string(FX2D_SOURCE_DIR) + "/ci/gating.json";
+  const bench_test::Ending first = gate({"--policy", policy, "--print-suite", "full", "--shard", "1/2"});
+  const bench_test::Ending second = gate({"--policy", policy, "--print-suite", "full", "--shard", "2/2"});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  ASSERT_EQ(second.exit_code, 0) << second.err;
+  EXPECT_EQ(lines_of(first.out, "scene "), std::vector<std::string>{"settling_boxes 800"});
+  EXPECT_EQ(lines_of(second.out, "scene "), (std::vector<std::string>{"pile 600", "stacks 200"}));
+  EXPECT_EQ(lines_of(first.out, "shard "), std::vector<std::string>{"1/2"});
+  EXPECT_EQ(lines_of(first.out, "work_items "), std::vector<std::string>{"3"});
+  EXPECT_EQ(lines_of(first.out, "work_list "), lines_of(second.out, "work_list "));
+  const bench_test::Ending smoke = gate({"--policy", policy, "--print-suite", "smoke", "--shard", "1/2"});
+  EXPECT_NE(lines_of(first.out, "work_list "), lines_of(smoke.out, "work_list "));
 }
 
 }  // namespace

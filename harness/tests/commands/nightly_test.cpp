@@ -69,6 +69,12 @@ TEST_F(NightlyCommandLine, EveryUsageErrorIsOneLineAndExitCodeTwo) {
       {{"--smoke", "--history", file}, "--history does not apply to --smoke"},
       {{"--out", file}, "--out " + file + ": exists and is not a directory"},  // wrong kind of path
       {{"--history", directory_.string()}, "--history " + directory_.string() + ": a directory, expected a file"},
+      {{"--shard"}, "--shard needs a value"},
+      {{"--collect"}, "--collect needs a value"},
+      {{"--shard", "1/2", "--collect", directory_.string()}, "--shard measures one part, --collect judges them all"},
+      {{"--shard", "1/2", "--accept"}, "--accept needs the whole night"},
+      {{"--shard", "1/2", "--history", file}, "--history: a part writes no history"},
+      {{"--collect", directory_.string()}, "--collect " + directory_.string() + ": no shard.txt"},
   };
   for (const auto& [arguments, expected] : misuses) {
     std::string err;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace fxbench {
@@ -310,6 +311,34 @@ TEST(StabilitySuite, Fx2dHoldsAShortStackAndSaysSo) {
   const SearchResult result = find_boundary(spec, evaluate);
   EXPECT_EQ(result.outcome, Outcome::holds_to_limit);
   EXPECT_EQ(result.evaluations.size(), 3u);  // 2, 4, 8
+}
+
+// A simulation that stops at the first sample its test's settled_failure holds on gets the very
+// verdict of the whole trajectory (reason, criterion, step): the search sees no difference, only
+// the time a collapsed structure is no longer simulated. The first three fail early (the full
+// golden's evaluations); a pyramid of 24 stands on Box2D and is simulated to its end.
+TEST(StabilitySuite, AFailureSettledEarlyIsTheWholeTrajectorysVerdict) {
+  const std::vector<std::tuple<std::string, std::string, double>> cases = {
+      {"card_house", "fx2d", 0.25}, {"mass_ratio", "fx2d", 4096}, {"vertical_stack", "ode", 24}, {"pyramid", "box2d", 24}};
+  for (const auto& [name, engine_name, parameter] : cases) {
+    const StabilityTest& test = suite_test(name);
+    ASSERT_TRUE(test.settled_failure) << name;
+    const EngineInfo* engine = find_engine(engine_name);
+    ASSERT_NE(engine, nullptr);
+    const SceneSpec scene = load_test_scene(test, FX2D_SOURCE_DIR "/scenes/stability", {}, parameter);
+    const Trajectory whole = simulate(scene, *engine, test.sample_every);
+    const Trajectory settled = simulate(scene, *engine, test.sample_every, test.settled_failure);
+    const Verdict expected = test.judge(scene, whole);
+    const Verdict early = test.judge(scene, settled);
+    if (expected.pass)
+      EXPECT_EQ(settled.states.size(), whole.states.size()) << name;
+    else
+      EXPECT_LT(settled.states.size(), whole.states.size()) << name;
+    EXPECT_EQ(early.pass, expected.pass) << name;
+    EXPECT_EQ(early.reason, expected.reason) << name;
+    EXPECT_EQ(early.criterion, expected.criterion) << name;
+    EXPECT_EQ(early.step, expected.step) << name;
+  }
 }
 
 }  // namespace
