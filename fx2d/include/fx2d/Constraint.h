@@ -54,7 +54,6 @@ class FxConstraintContext {
   float substep_dt = 0.0f;      // seconds
   float inv_substep_dt = 0.0f;  // 1/s
   FxSoftness softness;          // joint softness for this substep
-  float max_bias_velocity = 0.0f;  // m/s, the largest correction speed
   float max_linear_speed = 0.0f;   // m/s, the scene's speed limit for any body
   float max_angular_speed = 0.0f;  // rad/s, the scene's spin limit for any body
 };

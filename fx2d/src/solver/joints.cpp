@@ -132,8 +132,12 @@ void FxDistanceJoint::evaluate(FxConstraintContext& context, bool use_bias) {
   float mass_scale = 1.0f;
   float impulse_scale = 0.0f;
   if (use_bias) {
+    // Unlike a contact's push-out, a joint's correction is not capped at a speed: its error is the
+    // load it carries, and a capped pull lets a chain under a heavy load yield without end. What
+    // two joints that cannot both hold do to a body stays bounded by max_joint_impulse and the
+    // speed limits.
     const float error = fx2d::length(separation) - length_;
-    bias = std::fmax(std::fmin(context.softness.bias_rate * error, context.max_bias_velocity), -context.max_bias_velocity);
+    bias = context.softness.bias_rate * error;
     mass_scale = context.softness.mass_scale;
     impulse_scale = context.softness.impulse_scale;
   }
@@ -178,11 +182,8 @@ void FxRevoluteJoint::evaluate(FxConstraintContext& context, bool use_bias) {
   float mass_scale = 1.0f;
   float impulse_scale = 0.0f;
   if (use_bias) {
-    // Pulled together no faster than max_bias_velocity, like the distance joint and contacts: two
-    // pins that cannot both hold must not pump energy into the body they share.
+    // Not capped at a speed, like the distance joint.
     bias = context.softness.bias_rate * current_separation(bodies, separation0_, anchor_a_, anchor_b_, ra, rb);
-    const float bias_speed = length(bias);
-    if (bias_speed > context.max_bias_velocity) bias *= context.max_bias_velocity / bias_speed;
     mass_scale = context.softness.mass_scale;
     impulse_scale = context.softness.impulse_scale;
   }

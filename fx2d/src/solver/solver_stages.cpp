@@ -19,7 +19,6 @@ class SolverConstraintContext final : public FxConstraintContext {
     substep_dt = step.substep_dt;
     inv_substep_dt = step.contact.inv_substep_dt;
     softness = step.joint_softness;
-    max_bias_velocity = step.settings.max_push_speed;
     max_linear_speed = step.limits.max_speed;
     max_angular_speed = step.limits.max_spin;
   }
