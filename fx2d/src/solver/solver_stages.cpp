@@ -92,7 +92,7 @@ void colour_and_pack(const StepContext& step, SolverData& solver) {
   const std::vector<ContactConstraint>& constraints = solver.contact_solver.constraints;
   solver.contact_graph.build(constraints, solver.movable);
   solver.contact_batches.pack(constraints, solver.contact_graph, step.body_count);
-  solver.contact_batches.update_separations(solver.states);
+  solver.contact_batches.update_separations(solver.states, step.contact.linear_slop);
 }
 
 namespace {
@@ -124,6 +124,7 @@ class Substep {
 
   void solve() {
     for (int pass = 0; pass < step_.settings.velocity_passes; ++pass) velocity_pass(FxStage::solve, true);
+    solver_.contact_batches.push(solver_.states, step_.contact, step_.settings.force_scalar_solver);
   }
 
   void integrate_positions() {
@@ -135,7 +136,8 @@ class Substep {
 
   void relax() {
     step_.clock.switch_to(FxStage::relax);
-    solver_.contact_batches.update_separations(solver_.states);
+    solver_.contact_batches.take_back_push(solver_.states, step_.settings.force_scalar_solver);
+    solver_.contact_batches.update_separations(solver_.states, step_.contact.linear_slop);
     for (int pass = 0; pass < step_.settings.relax_passes; ++pass) velocity_pass(FxStage::relax, false);
   }
 
