@@ -90,14 +90,17 @@ template <int Points, bool UseBias>
   }
   // Read unconditionally, so the selects below need no conditional loads.
   const float bias_rate = p.softness.bias_rate, soft_mass_scale = p.softness.mass_scale;
-  const float soft_impulse_scale = p.softness.impulse_scale, max_push = p.max_push_speed, inv_h = p.inv_substep_dt;
+  const float soft_impulse_scale = p.softness.impulse_scale, max_spring = p.max_spring_speed, inv_h = p.inv_substep_dt;
   float normal_applied[Points], tangent_applied[Points];
   for (int i = 0; i < Points; ++i) {
     const float separation = k.point[i].separation[lane];
     const bool speculative = separation > 0.0f;
     const bool soft = UseBias && !speculative;
-    const float push = max_of(bias_rate * separation, -max_push);
-    const float bias = speculative ? separation * inv_h : (soft ? push : 0.0f);
+    // The soft spring pushes only slowly (max_spring_speed): pushed through the velocities, pushes
+    // add up down a column, and what the relaxation passes fail to take out again launches it.
+    // What it leaves of a deeper overlap is push()'s, through the positions.
+    const float spring = max_of(bias_rate * separation, -max_spring);
+    const float bias = speculative ? separation * inv_h : (soft ? spring : 0.0f);
     const float mass_scale = soft ? soft_mass_scale : 1.0f;
     const float impulse_scale = soft ? soft_impulse_scale : 0.0f;
 
@@ -128,6 +131,48 @@ template <int Points, bool UseBias>
   for (int i = 0; i < Points; ++i) {
     apply_normal(k, r, i, lane, a, b, normal_applied[i]);
     apply_tangent(k, r, i, lane, a, b, tangent_applied[i]);
+  }
+}
+
+// One pass that pushes overlaps apart, after the soft passes and before the positions move: each
+// point deeper than the slop gets the impulse that separates it at the soft contact's rate, at
+// most max_push_speed. The impulse is recorded, kept out of the accumulated impulse, and taken back
+// once the positions have moved (take_back_push_lane), so the push moves bodies but launches
+// none. Pushed through velocities and taken out by relaxation passes instead, pushes add up down
+// a column (the top of a column of n overlaps moves at n times the push), and a Gauss-Seidel pass
+// removes them one contact at a time: n passes before the column is back at rest.
+template <int Points>
+[[gnu::always_inline]] inline void push_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
+                                             const ContactSolveParams& p) {
+  const PointRows r = rows_of(k, lane);
+  float normal_speed[Points];
+  for (int i = 0; i < Points; ++i) {
+    normal_speed[i] =
+        relative_speed(a, b, r.nx, r.ny, k.point[i].arm_normal_a[lane], k.point[i].arm_normal_b[lane]);
+  }
+  const float bias_rate = p.softness.bias_rate, max_push = p.max_push_speed, slop = p.linear_slop;
+  float pushed[Points];
+  for (int i = 0; i < Points; ++i) {
+    const float separation = k.point[i].separation[lane];
+    const float push_speed = min_of(-bias_rate * separation, max_push);
+    float vn = normal_speed[i];
+    if (i == 1) vn += pushed[0] * k.normal1_from_normal0[lane];
+    const float wanted = max_of(k.point[i].normal_mass[lane] * (push_speed - vn), 0.0f);
+    // Within the slop the soft passes' spring has pushed already (solve_lane).
+    pushed[i] = separation < -slop ? wanted : 0.0f;
+    k.point[i].push_impulse[lane] = pushed[i];
+  }
+  for (int i = 0; i < Points; ++i) apply_normal(k, r, i, lane, a, b, pushed[i]);
+}
+
+// Takes back what push_lane applied: exact in one sweep whatever the order, since each contact
+// subtracts its own recorded impulse.
+template <int Points>
+[[gnu::always_inline]] inline void take_back_push_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
+                                                       const ContactSolveParams&) {
+  const PointRows r = rows_of(k, lane);
+  for (int i = 0; i < Points; ++i) {
+    apply_normal(k, r, i, lane, a, b, -k.point[i].push_impulse[lane]);
   }
 }
 
@@ -207,8 +252,9 @@ template <LaneFn LaneSolve, int Count>
   LaneVelocities first, second;
   gather_velocities(k[0], states, first);
   if constexpr (Count == 2) gather_velocities(k[1], states, second);
-  // check-vectorized(12): the lane loop below, in all twelve instantiations (warm start and
-  // solve with and without bias, one and two points, one and two batches), must be vectorised
+  // check-vectorized(20): the lane loop below, in all twenty instantiations (warm start, solve
+  // with and without softness, the push and its take-back; one and two points, one and two
+  // batches), must be vectorised
   for (int lane = 0; lane < lane_count; ++lane) {
     solve_lane_of<LaneSolve>(k[0], first, lane, p);
     if constexpr (Count == 2) solve_lane_of<LaneSolve>(k[1], second, lane, p);
@@ -223,9 +269,11 @@ struct LanePoses {
 };
 
 // Point `Point` of every lane: its separation at the current poses, from how far each anchor
-// moved and turned since the step began.
+// moved and turned since the step began. Whether any lane's point lies deeper than `slop`.
 template <int Point>
-[[gnu::always_inline]] inline void update_point_separations(ContactBatch& __restrict k, const LanePoses& __restrict q) {
+[[gnu::always_inline]] inline bool update_point_separations(ContactBatch& __restrict k, const LanePoses& __restrict q,
+                                                            float slop) {
+  int deep = 0;
   // check-vectorized(2): the lane loop below, for the first and the second point, must be vectorised
   // (not unrolled first: a fully unrolled loop is left to the weaker straight-line vectoriser)
 #pragma GCC unroll 1
@@ -234,24 +282,28 @@ template <int Point>
     const float rbx = k.point[Point].anchor_bx[lane], rby = k.point[Point].anchor_by[lane];
     const float gap_x = q.dpx[lane] + ((q.bqc[lane] * rbx - q.bqs[lane] * rby) - (q.aqc[lane] * rax - q.aqs[lane] * ray));
     const float gap_y = q.dpy[lane] + ((q.bqs[lane] * rbx + q.bqc[lane] * rby) - (q.aqs[lane] * rax + q.aqc[lane] * ray));
-    k.point[Point].separation[lane] =
+    const float separation =
         gap_x * k.normal_x[lane] + gap_y * k.normal_y[lane] + k.point[Point].adjusted_separation[lane];
+    k.point[Point].separation[lane] = separation;
+    deep |= separation < -slop;
   }
+  return deep != 0;
 }
 
 // Every point of one batch. It reads poses and writes only the batch, so lanes never conflict,
 // even in an overflow batch.
 template <int Points>
-[[gnu::always_inline]] inline void update_batch_separations(ContactBatch& __restrict k,
-                                                            const FxBodyState* __restrict states) {
+[[gnu::always_inline]] inline bool update_batch_separations(ContactBatch& __restrict k,
+                                                            const FxBodyState* __restrict states, float slop) {
   LaneColumns a, b;
   gather_columns<pose_row>(states, k.body_a, a);
   gather_columns<pose_row>(states, k.body_b, b);
   LanePoses q;
   to_lanes(b.c0 - a.c0, q.dpx), to_lanes(b.c1 - a.c1, q.dpy);
   to_lanes(a.c2, q.aqc), to_lanes(a.c3, q.aqs), to_lanes(b.c2, q.bqc), to_lanes(b.c3, q.bqs);
-  update_point_separations<0>(k, q);
-  if constexpr (Points == 2) update_point_separations<1>(k, q);
+  bool deep = update_point_separations<0>(k, q, slop);
+  if constexpr (Points == 2) deep |= update_point_separations<1>(k, q, slop);
+  return deep;
 }
 
 // The batches of one run, in order; two at a time where lanes are independent, with one left over
@@ -268,17 +320,47 @@ template <LaneFn LaneSolve>
   if (i < count) run_batched<LaneSolve, 1>(batches + i, states, params);
 }
 
+// The batches of one run that `marked` flags, in order; two at a time where two marked batches
+// follow each other. Lanes of one colour are independent, so leaving a batch out changes no other.
+template <LaneFn LaneSolve>
+[[gnu::always_inline]] inline void sweep_marked_run(ContactBatch* batches, const std::uint8_t* marked, int count,
+                                                    FxBodyState* states, const ContactSolveParams& params,
+                                                    bool serial) {
+  for (int i = 0; i < count;) {
+    if (!marked[i]) {
+      ++i;
+    } else if (serial) {
+      run_serial<LaneSolve>(batches[i++], states, params);
+    } else if (i + 1 < count && marked[i + 1]) {
+      run_batched<LaneSolve, 2>(batches + i, states, params);
+      i += 2;
+    } else {
+      run_batched<LaneSolve, 1>(batches + i++, states, params);
+    }
+  }
+}
+
+// Every batch of every run, or with `marked` only the batches it flags.
 template <LaneFn OnePoint, LaneFn TwoPoints>
 [[gnu::always_inline]] inline void sweep(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
-                                         const ContactSolveParams& caller_params, bool scalar) {
+                                         const ContactSolveParams& caller_params, bool scalar,
+                                         const std::uint8_t* marked = nullptr) {
   // A local copy, which no store to a batch or a body can change, so it is not re-read per batch.
   const ContactSolveParams params = caller_params;
   for (const BatchRun& run : runs) {
     const bool serial = scalar || run.serial;
-    if (run.point_count == 1) {
-      sweep_run<OnePoint>(batches + run.first, run.count, states, params, serial);
+    ContactBatch* first = batches + run.first;
+    if (marked != nullptr) {
+      const std::uint8_t* run_marks = marked + run.first;
+      if (run.point_count == 1) {
+        sweep_marked_run<OnePoint>(first, run_marks, run.count, states, params, serial);
+      } else {
+        sweep_marked_run<TwoPoints>(first, run_marks, run.count, states, params, serial);
+      }
+    } else if (run.point_count == 1) {
+      sweep_run<OnePoint>(first, run.count, states, params, serial);
     } else {
-      sweep_run<TwoPoints>(batches + run.first, run.count, states, params, serial);
+      sweep_run<TwoPoints>(first, run.count, states, params, serial);
     }
   }
 }
@@ -289,13 +371,28 @@ FX2D_LANE_KERNEL void warm_start_runs(std::span<const BatchRun> runs, ContactBat
   sweep<&warm_start_lane<1>, &warm_start_lane<2>>(runs, batches, states, {}, scalar);
 }
 
-FX2D_LANE_KERNEL void update_run_separations(std::span<const BatchRun> runs, ContactBatch* batches,
-                                             const FxBodyState* states) {
+FX2D_LANE_KERNEL void push_runs(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
+                                const ContactSolveParams& params, bool scalar, const std::uint8_t* deep) {
+  sweep<&push_lane<1>, &push_lane<2>>(runs, batches, states, params, scalar, deep);
+}
+
+FX2D_LANE_KERNEL void take_back_push_runs(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
+                                          bool scalar, const std::uint8_t* deep) {
+  sweep<&take_back_push_lane<1>, &take_back_push_lane<2>>(runs, batches, states, {}, scalar, deep);
+}
+
+// Marks in `deep` each batch with a point deeper than `slop`; whether any has one.
+FX2D_LANE_KERNEL bool update_run_separations(std::span<const BatchRun> runs, ContactBatch* batches,
+                                             const FxBodyState* states, float slop, std::uint8_t* deep) {
+  bool any = false;
   for (const BatchRun& run : runs) {
     for (int i = run.first; i < run.first + run.count; ++i) {
-      run.point_count == 1 ? update_batch_separations<1>(batches[i], states) : update_batch_separations<2>(batches[i], states);
+      deep[i] = run.point_count == 1 ? update_batch_separations<1>(batches[i], states, slop)
+                                     : update_batch_separations<2>(batches[i], states, slop);
+      any |= deep[i] != 0;
     }
   }
+  return any;
 }
 
 FX2D_LANE_KERNEL void solve_runs_biased(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
@@ -401,6 +498,7 @@ void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, st
 void ContactBatches::reserve(std::size_t constraints) {
   // Full batches, plus one partly filled batch per run: two runs per colour and two for overflow.
   batches_.reserve(constraints / lane_count + 2 * (ContactGraph::max_colours + 1));
+  deep_.reserve(batches_.capacity());
   runs_.reserve(2 * (ContactGraph::max_colours + 1));
 }
 
@@ -412,14 +510,24 @@ void ContactBatches::pack(std::span<const ContactConstraint> constraints, const 
     add_runs(constraints, graph.members(colour), false, padding_body);
   }
   add_runs(constraints, graph.members(ContactGraph::overflow), true, padding_body);
+  deep_.assign(batches_.size(), 0);
+  any_deep_ = false;
 }
 
 void ContactBatches::warm_start(std::span<FxBodyState> states, bool scalar) {
   warm_start_runs(runs_, batches_.data(), states.data(), scalar);
 }
 
-void ContactBatches::update_separations(std::span<const FxBodyState> states) {
-  update_run_separations(runs_, batches_.data(), states.data());
+void ContactBatches::push(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar) {
+  if (any_deep_) push_runs(runs_, batches_.data(), states.data(), params, scalar, deep_.data());
+}
+
+void ContactBatches::take_back_push(std::span<FxBodyState> states, bool scalar) {
+  if (any_deep_) take_back_push_runs(runs_, batches_.data(), states.data(), scalar, deep_.data());
+}
+
+void ContactBatches::update_separations(std::span<const FxBodyState> states, float slop) {
+  any_deep_ = update_run_separations(runs_, batches_.data(), states.data(), slop, deep_.data());
 }
 
 void ContactBatches::resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias,

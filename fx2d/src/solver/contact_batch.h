@@ -60,6 +60,9 @@ struct PointColumns {
   float normal_impulse[lane_count];
   float tangent_impulse[lane_count];
   float max_normal_impulse[lane_count];
+  // The impulse push() applied this substep to move an overlap apart, kept out of normal_impulse
+  // because take_back_push() removes it again.
+  float push_impulse[lane_count];
   float anchor_ax[lane_count];
   float anchor_ay[lane_count];
   float anchor_bx[lane_count];
@@ -107,8 +110,17 @@ class ContactBatches {
   // With `scalar`, every batch is solved lane by lane (the scalar twin); the result is the same.
   void warm_start(std::span<FxBodyState> states, bool scalar);
   // Works out every point's separation at the current poses; the velocity passes read it. Poses
-  // change only between substeps, so once after each position integration is enough.
-  void update_separations(std::span<const FxBodyState> states);
+  // change only between substeps, so once after each position integration is enough. Also marks
+  // the batches with a point deeper than `slop`, the only ones push() touches.
+  void update_separations(std::span<const FxBodyState> states, float slop);
+  // Gives every point deeper than the slop the velocity that separates it at the soft contact's
+  // rate, at most max_push_speed; take_back_push(), once the positions have moved, removes exactly
+  // that velocity again, so overlaps are pushed apart in position and nothing is launched. Both
+  // visit only the batches update_separations() marked deep, and nothing when none is: a resting
+  // scene, whose overlaps stay within the slop, pays for neither. take_back_push() must run before
+  // the next update_separations(), which moves the marks.
+  void push(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar);
+  void take_back_push(std::span<FxBodyState> states, bool scalar);
   void resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias, bool scalar);
   // Copies the accumulated impulses back to the constraints they came from.
   void unpack(std::span<ContactConstraint> constraints) const;
@@ -119,6 +131,9 @@ class ContactBatches {
 
   std::vector<ContactBatch> batches_;
   std::vector<BatchRun> runs_;
+  // Per batch: whether a point of it was deeper than the slop at the last update_separations().
+  std::vector<std::uint8_t> deep_;
+  bool any_deep_ = false;
 };
 
 }  // namespace fx2d::detail

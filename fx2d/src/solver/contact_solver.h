@@ -48,6 +48,10 @@ struct ContactSolveParams {
   FxSoftness softness;
   float inv_substep_dt = 0;
   float max_push_speed = 0;
+  // The fastest the soft passes' spring pushes an overlap apart through the velocities; push()
+  // moves what lies deeper than linear_slop apart through the positions, at up to max_push_speed.
+  float max_spring_speed = 0;
+  float linear_slop = 0;
 };
 
 class ContactSolver {

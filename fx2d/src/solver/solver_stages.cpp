@@ -56,8 +56,10 @@ void SolverData::reserve(std::size_t bodies) {
 }
 
 void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts) {
-  // Gather the hot state of every body; sleeping and static ones keep zero velocity and are
-  // never written by a constraint (a touching constraint always has its bodies awake).
+  // Gather the hot state of every awake body; sleeping and static ones keep zero velocity and are
+  // never written by a constraint (a touching constraint always has its bodies awake). Every state
+  // is cleared in one fill, which the compiler turns into wide stores, before the loop that skips
+  // the bodies at rest: a sleeping body costs a store and a test here.
   const FxSceneSettings& settings = step.settings;
   const std::vector<BodyRecord>& records = bodies.records;
   const std::vector<BodySim>& sims = bodies.sims;
@@ -66,16 +68,14 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   std::vector<std::uint8_t>& movable = solver.movable;
   integration.clear(step.body_count);
   const float h = step.substep_dt;
-  states.resize(records.size() + 1);
-  states.back() = FxBodyState{};
+  states.assign(records.size() + 1, FxBodyState{});
   movable.resize(records.size() + 1);
   movable.back() = 0;
   for (std::uint32_t i = 0; i < records.size(); ++i) {
     movable[i] = records[i].type == FxBodyType::dynamic;
     const bool moves = records[i].awake && records[i].type != FxBodyType::static_body;
-    FxBodyState& state = states[i];
-    state = FxBodyState{};
     if (!moves) continue;
+    FxBodyState& state = states[i];
     state.linear_velocity = sims[i].linear_velocity;
     state.angular_velocity = sims[i].angular_velocity;
     integration.add_moving(i);
@@ -84,14 +84,20 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
                             1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping));
   }
   integration.finish();
-  solver.contact_solver.prepare(contacts, bodies);
+  // Without an awake body there is no constraint (a static body is never awake): a world asleep
+  // skips the walk over every cached contact.
+  if (integration.moving_bodies().empty()) {
+    solver.contact_solver.constraints.clear();
+  } else {
+    solver.contact_solver.prepare(contacts, bodies);
+  }
 }
 
 void colour_and_pack(const StepContext& step, SolverData& solver) {
   const std::vector<ContactConstraint>& constraints = solver.contact_solver.constraints;
   solver.contact_graph.build(constraints, solver.movable);
   solver.contact_batches.pack(constraints, solver.contact_graph, step.body_count);
-  solver.contact_batches.update_separations(solver.states);
+  solver.contact_batches.update_separations(solver.states, step.contact.linear_slop);
 }
 
 namespace {
@@ -123,6 +129,7 @@ class Substep {
 
   void solve() {
     for (int pass = 0; pass < step_.settings.velocity_passes; ++pass) velocity_pass(FxStage::solve, true);
+    solver_.contact_batches.push(solver_.states, step_.contact, step_.settings.force_scalar_solver);
   }
 
   void integrate_positions() {
@@ -134,7 +141,8 @@ class Substep {
 
   void relax() {
     step_.clock.switch_to(FxStage::relax);
-    solver_.contact_batches.update_separations(solver_.states);
+    solver_.contact_batches.take_back_push(solver_.states, step_.settings.force_scalar_solver);
+    solver_.contact_batches.update_separations(solver_.states, step_.contact.linear_slop);
     for (int pass = 0; pass < step_.settings.relax_passes; ++pass) velocity_pass(FxStage::relax, false);
   }
 
@@ -159,6 +167,8 @@ class Substep {
 }  // namespace
 
 void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& bodies, const Constraints& constraints) {
+  // Nothing moves and nothing holds: every substep would sweep empty lists.
+  if (solver.integration.moving_bodies().empty() && constraints.empty()) return;
   Substep substep(step, solver, bodies, constraints);
   for (int i = 0; i < step.settings.substeps; ++i) {
     substep.integrate_velocities();

@@ -12,6 +12,10 @@
 namespace fx2d::detail {
 namespace {
 
+// Fewer than one body in this many awake: the islands are found from the awake bodies' contact
+// lists rather than from every cached contact.
+constexpr std::size_t few_awake_inverse = 4;
+
 int find_root(std::vector<int>& parent, int i) {
   while (parent[i] != i) {
     parent[i] = parent[parent[i]];
@@ -40,18 +44,36 @@ void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies
   std::vector<BodyRecord>& records = bodies.records;
   std::vector<int>& island_parent = scratch.island_parent;
   std::vector<float>& island_min_sleep_time = scratch.island_min_sleep_time;
-  const int count = static_cast<int>(records.size());
+  // Only awake dynamic bodies, all of them in `moving`, join islands, so only their entries are
+  // set: a sleeping island costs nothing here.
   island_parent.resize(records.size());
-  for (int i = 0; i < count; ++i) island_parent[i] = i;
+  island_min_sleep_time.resize(records.size());
+  for (const std::uint32_t i : moving) {
+    island_parent[i] = static_cast<int>(i);
+    island_min_sleep_time[i] = settings.time_to_sleep;
+  }
 
   auto links_islands = [&](std::uint32_t a, std::uint32_t b) {
     return records[a].type == FxBodyType::dynamic && records[b].type == FxBodyType::dynamic &&
            records[a].awake && records[b].awake;
   };
-  for (const CachedContact& contact : contacts.slots) {
+  auto unite_if_touching = [&](const CachedContact& contact) {
     if (contact.touching && links_islands(contact.body_a, contact.body_b)) {
       unite(island_parent, static_cast<int>(contact.body_a), static_cast<int>(contact.body_b));
     }
+  };
+  // The islands are the same whichever way the contacts are visited (each root is its island's
+  // lowest index). The awake bodies' own contact lists leave sleeping islands out but find a
+  // contact from both sides, by pointer chasing: worth it only while few bodies are awake (every
+  // body awake, on pile 600, it cost 1.5% more instructions per step than the slot vector).
+  if (moving.size() * few_awake_inverse < records.size()) {
+    for (const std::uint32_t i : moving) {
+      for (int edge = records[i].contact_head; edge != -1; edge = contacts.next(edge)) {
+        unite_if_touching(contacts.slots[ContactCache::contact_of(edge)]);
+      }
+    }
+  } else {
+    for (const CachedContact& contact : contacts.slots) unite_if_touching(contact);
   }
   for (const auto& constraint : constraints) {
     const std::uint32_t a = constraint->entity_a()->packed_index();
@@ -59,7 +81,6 @@ void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies
     if (links_islands(a, b)) unite(island_parent, static_cast<int>(a), static_cast<int>(b));
   }
 
-  island_min_sleep_time.assign(records.size(), settings.time_to_sleep);
   for (const std::uint32_t i : moving) {
     if (records[i].type != FxBodyType::dynamic) continue;
     float& island_time = island_min_sleep_time[find_root(island_parent, static_cast<int>(i))];
