@@ -87,8 +87,8 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
   return PairUpdate::collided;
 }
 
-// The part of a pair's update that touches what other pairs share: the cache's free list and
-// touching count, the bodies' contact lists and awake flags.
+// The part of a collided or separated pair's update that touches what other pairs share: the
+// cache's free list and touching count, the bodies' contact lists and awake flags.
 void settle_pair(int id, PairUpdate update, ContactCache& contacts, Bodies& bodies) {
   CachedContact& contact = contacts.slots[id];
   BodyRecord& ra = bodies.records[contact.body_a];
@@ -97,7 +97,7 @@ void settle_pair(int id, PairUpdate update, ContactCache& contacts, Bodies& bodi
     contacts.destroy(id, ra.contact_head, rb.contact_head);
     return;
   }
-  if (update != PairUpdate::collided || !contacts.update_touching(contact)) return;
+  if (!contacts.update_touching(contact)) return;
   const bool active_a = ra.awake && ra.type != FxBodyType::static_body;
   const bool active_b = rb.awake && rb.type != FxBodyType::static_body;
   if (!ra.awake && active_b) wake_body(bodies, contact.body_a);
@@ -127,7 +127,7 @@ void update_contacts(const StepContext& step, NarrowPhaseScratch& scratch, Conta
     if (!contact.alive) continue;
     PairUpdate update = parallel ? updates[id] : PairUpdate::skipped;
     if (update == PairUpdate::skipped) update = collide_pair(step, contact, bodies, tree);
-    settle_pair(static_cast<int>(id), update, contacts, bodies);
+    if (update != PairUpdate::skipped) settle_pair(static_cast<int>(id), update, contacts, bodies);
   }
 }
 
