@@ -24,7 +24,7 @@
 namespace fx2d::detail {
 
 // Bodies per range of the parallel body loops (whole groups of eight), and the fewest worth
-// waking the workers for (measured: below it two workers step stacks 50 and pile 300 no faster).
+// waking the workers for. Provisional (issue 22), like the narrow phase's min_parallel_pairs.
 inline constexpr std::uint32_t bodies_per_block = 128;
 inline constexpr std::uint32_t min_parallel_bodies = 1024;
 
