@@ -78,7 +78,7 @@ class FlatScene {
               joints_.data(),
               count_of(joints_.size()),
               {spec.fx2d.substeps, spec.fx2d.velocity_passes, spec.fx2d.sleeping ? 1 : 0,
-               spec.fx2d.relax_passes.value_or(0), spec.fx2d.max_push_speed.value_or(0.0)}};
+               spec.fx2d.relax_passes.value_or(0), spec.fx2d.max_push_speed.value_or(0.0), spec.fx2d.workers.value_or(0)}};
   }
 
   const Fx2dBenchScene& scene() const { return scene_; }

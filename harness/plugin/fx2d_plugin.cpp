@@ -28,6 +28,10 @@
 #ifndef FX2D_BENCH_PLUGIN_DESCRIPTION
 #define FX2D_BENCH_PLUGIN_DESCRIPTION ""
 #endif
+// Threads per step of a scene that leaves fx2d.workers out (CMake FX2D_BENCH_WORKERS); 0: one.
+#ifndef FX2D_BENCH_WORKERS
+#define FX2D_BENCH_WORKERS 0
+#endif
 
 struct Fx2dBenchInstance {
   std::unique_ptr<fx2d::FxScene> scene;
@@ -111,6 +115,16 @@ std::shared_ptr<fx2d::FxConstraint> make_joint(const Fx2dBenchInstance& instance
   return std::make_shared<fx2d::FxRevoluteJoint>(a, b, a->position() + rotate(a->rotation(), anchor_a));
 }
 
+// ab builds this file against older revisions too, whose settings have no worker count: there
+// a scene that asks for workers runs on one thread, with the same results.
+template <class Settings>
+void set_workers(Settings& settings, int32_t workers) {
+  if constexpr (requires { settings.workers; }) {
+    if (workers == 0) workers = FX2D_BENCH_WORKERS;
+    if (workers > 0) settings.workers = workers;
+  }
+}
+
 std::unique_ptr<Fx2dBenchInstance> build(const Fx2dBenchScene& scene) {
   fx2d::FxSceneSettings settings;
   settings.gravity = to_fx(scene.gravity);
@@ -120,6 +134,7 @@ std::unique_ptr<Fx2dBenchInstance> build(const Fx2dBenchScene& scene) {
   settings.sleeping = scene.fx2d.sleeping != 0;
   if (scene.fx2d.relax_passes > 0) settings.relax_passes = scene.fx2d.relax_passes;
   if (scene.fx2d.max_push_speed > 0.0) settings.max_push_speed = static_cast<float>(scene.fx2d.max_push_speed);
+  set_workers(settings, scene.fx2d.workers);
   auto instance = std::make_unique<Fx2dBenchInstance>();
   instance->scene = std::make_unique<fx2d::FxScene>(settings);
   for (int32_t i = 0; i < scene.body_count; ++i)

@@ -25,10 +25,10 @@ extern "C" {
 #endif
 
 /* Raised on any change to a struct or function below; a loader refuses any other version. */
-#define FX2D_BENCH_PLUGIN_ABI_VERSION 3
+#define FX2D_BENCH_PLUGIN_ABI_VERSION 4
 /* The one exported symbol, by name, for dlsym(). Its name and the table's layout are version 1's;
  * version 2 added relax_passes and max_push_speed to Fx2dBenchSettings, version 3 bullet to
- * Fx2dBenchBody. */
+ * Fx2dBenchBody, version 4 workers to Fx2dBenchSettings. */
 #define FX2D_BENCH_PLUGIN_ENTRY "fx2d_bench_plugin_v1"
 
 typedef struct Fx2dBenchVec2 {
@@ -86,6 +86,7 @@ typedef struct Fx2dBenchSettings {
   int32_t sleeping;               /* 0 or 1 */
   int32_t relax_passes;           /* >= 1; 0: the engine's default */
   double max_push_speed;          /* m/s, > 0; 0: the engine's default */
+  int32_t workers;                /* threads a step may use, >= 1; 0: the engine's default */
 } Fx2dBenchSettings;
 
 typedef struct Fx2dBenchScene {

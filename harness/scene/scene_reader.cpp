@@ -51,6 +51,7 @@ void read_solver(ObjectReader& scene, SceneSpec& spec) {
   spec.fx2d.sleeping = fx2d.boolean("sleeping", Fx2dSettings{}.sleeping);
   spec.fx2d.relax_passes = fx2d.optional_integer("relax_passes", kPasses);
   spec.fx2d.max_push_speed = fx2d.optional_number("max_push_speed", kPositive);
+  spec.fx2d.workers = fx2d.optional_integer("workers", Range{1.0, 64.0});
   fx2d.finish();
 
   ObjectReader box2d(solver.errors(), solver.slot("box2d", Json::object()), solver.at("box2d"));

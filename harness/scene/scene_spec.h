@@ -60,6 +60,7 @@ struct Fx2dSettings {
   // that leaves them out keeps the hash it had before these keys existed.
   std::optional<int> relax_passes;
   std::optional<double> max_push_speed;  // m/s
+  std::optional<int> workers;            // threads a step may use; the results are the same for any
   // What Fx2D takes when a scene leaves relax_passes out (scenes/README.md); fx2d_canonical_test
   // checks that giving it explicitly reproduces the unset run bit for bit.
   static constexpr int engine_relax_passes = 4;

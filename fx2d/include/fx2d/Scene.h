@@ -18,6 +18,7 @@
 #include "fx2d/Entity.h"
 #include "fx2d/Math.h"
 #include "fx2d/Profile.h"
+#include "fx2d/Tasks.h"
 
 namespace fx2d {
 
@@ -58,6 +59,12 @@ struct FxSceneSettings {
   // Solve every contact batch lane by lane instead of as vectorised lanes. The results are
   // bit-identical; this exists to prove it and to measure what the batching is worth.
   bool force_scalar_solver = false;
+  // Threads a step may use, in [1, 64], the stepping thread included. Results are bit-identical
+  // for every count (Tasks.h). Without a scheduler the scene starts a pool of workers - 1 threads
+  // once, when this is set, and keeps it; they sleep while the scene is not stepping.
+  int workers = 1;
+  // The user's own scheduler; both callbacks or neither. Empty: the scene's own pool.
+  FxTaskScheduler scheduler;
 };
 
 class FxScene {

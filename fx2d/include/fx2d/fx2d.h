@@ -8,4 +8,5 @@
 #include "fx2d/Profile.h"
 #include "fx2d/Scene.h"
 #include "fx2d/Shape.h"
+#include "fx2d/Tasks.h"
 #include "fx2d/Version.h"

@@ -40,7 +40,7 @@ bool ContactCache::has_pair(int head, std::uint32_t other) const {
   return false;
 }
 
-void ContactCache::update_manifold(CachedContact& contact, const Manifold& manifold) {
+void ContactCache::replace_manifold(CachedContact& contact, const Manifold& manifold) {
   float normal_impulse[2] = {0.0f, 0.0f};
   float tangent_impulse[2] = {0.0f, 0.0f};
   for (int i = 0; i < manifold.point_count; ++i) {
@@ -57,9 +57,14 @@ void ContactCache::update_manifold(CachedContact& contact, const Manifold& manif
     contact.normal_impulse[i] = normal_impulse[i];
     contact.tangent_impulse[i] = tangent_impulse[i];
   }
-  const bool touching = manifold.point_count > 0;
+}
+
+bool ContactCache::update_touching(CachedContact& contact) {
+  const bool touching = contact.manifold.point_count > 0;
+  const bool began = touching && !contact.touching;
   if (touching != contact.touching) touching_count += touching ? 1 : -1;
   contact.touching = touching;
+  return began;
 }
 
 void ContactCache::link(int edge, int& head) {

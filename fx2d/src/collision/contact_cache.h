@@ -41,7 +41,10 @@ class ContactCache {
   bool has_pair(int head, std::uint32_t other) const;
 
   // Replaces a record's manifold, carrying impulses over from points with the same feature id.
-  void update_manifold(CachedContact& contact, const Manifold& manifold);
+  // Touches that record alone, so records may be replaced on several threads at once.
+  static void replace_manifold(CachedContact& contact, const Manifold& manifold);
+  // Sets `touching` from the record's manifold and keeps touching_count; true if it began touching.
+  bool update_touching(CachedContact& contact);
 
   static int contact_of(int edge) { return edge >> 1; }
   static int side_of(int edge) { return edge & 1; }

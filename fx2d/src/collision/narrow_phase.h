@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "collision/aabb_tree.h"
 #include "world/bodies.h"
@@ -21,8 +22,19 @@ struct PairMotion {
 
 PairMotion pair_motion(const Bodies& bodies, std::uint32_t a, std::uint32_t b);
 
+// What the parallel collision of one pair left for the serial pass to do, per contact slot.
+enum class PairUpdate : std::uint8_t { skipped, separated, collided };
+
+struct NarrowPhaseScratch {
+  std::vector<PairUpdate> pair_updates;  // per contact slot, reused every step
+  void reserve(std::size_t contacts) { pair_updates.reserve(contacts); }
+};
+
 // Stage: collides every cached pair with an awake body, destroys the pairs whose fat boxes
-// separated and wakes a sleeping body that a pair begins to touch.
-void update_contacts(const StepContext& step, ContactCache& contacts, Bodies& bodies, const AabbTree& tree);
+// separated and wakes a sleeping body that a pair begins to touch. With several workers the
+// pairs are collided in parallel, then destroyed and woken in slot order on this thread, so the
+// result is the serial one's.
+void update_contacts(const StepContext& step, NarrowPhaseScratch& scratch, ContactCache& contacts, Bodies& bodies,
+                     const AabbTree& tree);
 
 }  // namespace fx2d::detail

@@ -139,14 +139,23 @@ void BodyIntegration::finish() {
   while (dynamic_.size() % lane_count != 0) add_dynamic(padding_body_, {}, 1.0f, 1.0f);
 }
 
-void BodyIntegration::integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits) const {
-  const DynamicColumns columns{dynamic_.data(), acceleration_x_.data(), acceleration_y_.data(), linear_factor_.data(),
-                               angular_factor_.data()};
-  integrate_velocity_groups(columns, dynamic_.size(), states.data(), h, limits);
+void BodyIntegration::integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits,
+                                           const Tasks& tasks) const {
+  tasks.for_each_range(static_cast<std::uint32_t>(dynamic_.size()), bodies_per_block, min_parallel_bodies,
+                       [&](std::uint32_t first, std::uint32_t last) {
+                         const DynamicColumns columns{dynamic_.data() + first, acceleration_x_.data() + first,
+                                                      acceleration_y_.data() + first, linear_factor_.data() + first,
+                                                      angular_factor_.data() + first};
+                         integrate_velocity_groups(columns, last - first, states.data(), h, limits);
+                       });
 }
 
-void BodyIntegration::integrate_positions(std::span<FxBodyState> states, float h, SpeedLimits limits) const {
-  integrate_position_groups(moving_.data(), moving_.size(), states.data(), h, limits);
+void BodyIntegration::integrate_positions(std::span<FxBodyState> states, float h, SpeedLimits limits,
+                                          const Tasks& tasks) const {
+  tasks.for_each_range(static_cast<std::uint32_t>(moving_.size()), bodies_per_block, min_parallel_bodies,
+                       [&](std::uint32_t first, std::uint32_t last) {
+                         integrate_position_groups(moving_.data() + first, last - first, states.data(), h, limits);
+                       });
 }
 
 }  // namespace fx2d::detail

@@ -6,7 +6,8 @@
 // - both body lists are padded to whole groups of eight with the padding body, whose state is
 //   zero and stays zero (no acceleration, factor one), so every group is gathered, solved as one
 //   vectorisable loop and scattered whole;
-// - a body appears once in a list, except the padding body, whose lanes compute equal values;
+// - a body appears once in a list, except the padding body, whose lanes compute equal values and
+//   lie in the last group alone, so groups can be integrated on several threads at once;
 // - the arithmetic of a lane is the scalar arithmetic of one body, and the rare lane over the
 //   speed limit is slowed by the scalar slowed_to(), so the result does not depend on the lanes.
 #pragma once
@@ -18,8 +19,14 @@
 #include "fx2d/Constraint.h"
 #include "fx2d/Math.h"
 #include "world/speed_limits.h"
+#include "world/tasks.h"
 
 namespace fx2d::detail {
+
+// Bodies per range of the parallel body loops (whole groups of eight), and the fewest worth
+// waking the workers for. Provisional (issue 22), like the narrow phase's min_parallel_pairs.
+inline constexpr std::uint32_t bodies_per_block = 128;
+inline constexpr std::uint32_t min_parallel_bodies = 1024;
 
 class BodyIntegration {
  public:
@@ -37,9 +44,9 @@ class BodyIntegration {
   std::span<const std::uint32_t> moving_bodies() const { return {moving_.data(), moving_count_}; }
 
   // v <- limited(linear_factor * (v + h * acceleration)), w <- limited(angular_factor * w).
-  void integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits) const;
+  void integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits, const Tasks& tasks) const;
   // v, w <- limited(v, w); then displacement and rotation advance by h.
-  void integrate_positions(std::span<FxBodyState> states, float h, SpeedLimits limits) const;
+  void integrate_positions(std::span<FxBodyState> states, float h, SpeedLimits limits, const Tasks& tasks) const;
 
  private:
   std::uint32_t padding_body_ = 0;

@@ -22,8 +22,9 @@ inline constexpr int lane_count = 8;
 // gets eight-wide lanes. The result is the same to the bit: AVX2 brings no fused multiply-add
 // (that is the separate FMA extension), and lanes are independent. Every helper a kernel calls is
 // always_inline, so each version holds its own copy. Ifuncs are an ELF feature: a Windows (PE)
-// build keeps the baseline version alone.
-#if defined(__x86_64__) && !defined(__AVX2__) && defined(__ELF__)
+// build keeps the baseline version alone, and so does a ThreadSanitizer build (FX2D_TSAN): the
+// loader runs the resolver before the sanitizer is set up, and its instrumented entry crashes.
+#if defined(__x86_64__) && !defined(__AVX2__) && defined(__ELF__) && !FX2D_TSAN
 #define FX2D_LANE_KERNEL __attribute__((target_clones("avx2", "default")))
 #else
 #define FX2D_LANE_KERNEL

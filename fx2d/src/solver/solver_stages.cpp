@@ -44,6 +44,31 @@ FxVec2f clamped_acceleration(FxVec2f acceleration, float bound) {
   return {std::clamp(acceleration.x, -bound, bound), std::clamp(acceleration.y, -bound, bound)};
 }
 
+// Writes one body's pose and velocity back with carries, and refreshes its sleep time and box.
+// Touches that body's records alone, so bodies are finalized on several threads at once.
+void finalize_body(const FxSceneSettings& settings, const FxBodyState& state, BodySim& sim, BodyRecord& record,
+                   const BroadPhase& broad) {
+  const FxRot start = sim.rotation;
+  FxRot end = mul(state.delta_rotation, start);
+  const float norm = std::sqrt(end.c * end.c + end.s * end.s);
+  end = {end.c / norm, end.s / norm};
+  // The origin moves with the centre of mass and swings about it as the body turns.
+  const FxVec2f origin_step = state.delta_position + rotate(start, sim.local_center) - rotate(end, sim.local_center);
+  FxCarryAdd(sim.origin, sim.carry, origin_step);
+  sim.rotation = end;
+  sim.linear_velocity = state.linear_velocity;
+  sim.angular_velocity = state.angular_velocity;
+  clamp_velocity(settings, sim);
+  sim.force = {};
+
+  const bool resting = length_squared(sim.linear_velocity) < settings.linear_sleep_speed * settings.linear_sleep_speed &&
+                       sim.angular_velocity * sim.angular_velocity < settings.angular_sleep_speed * settings.angular_sleep_speed;
+  record.sleep_time = (resting && record.can_sleep) ? record.sleep_time + settings.dt : 0.0f;
+
+  record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
+  broad.refresh(record, sim.aabb);
+}
+
 }  // namespace
 
 void SolverData::reserve(std::size_t bodies) {
@@ -115,7 +140,7 @@ class Substep {
 
   void integrate_velocities() {
     step_.clock.switch_to(FxStage::integrate);
-    solver_.integration.integrate_velocities(solver_.states, step_.substep_dt, step_.limits);
+    solver_.integration.integrate_velocities(solver_.states, step_.substep_dt, step_.limits, step_.tasks);
   }
 
   void warm_start() {
@@ -136,7 +161,7 @@ class Substep {
     step_.clock.switch_to(FxStage::integrate);
     // Clamped again here and at the step's end: the passes can push a body squeezed between
     // immovable bodies, or held by joints that fight, past the limits the integration kept.
-    solver_.integration.integrate_positions(solver_.states, step_.substep_dt, step_.limits);
+    solver_.integration.integrate_positions(solver_.states, step_.substep_dt, step_.limits, step_.tasks);
   }
 
   void relax() {
@@ -191,33 +216,13 @@ void solve_positions(const StepContext& step, SolverData& solver) {
 }
 
 void finalize_bodies(const StepContext& step, const SolverData& solver, Bodies& bodies, const BroadPhase& broad) {
-  const FxSceneSettings& settings = step.settings;
-  const float dt = settings.dt;
-  for (const std::uint32_t i : solver.integration.moving_bodies()) {
-    BodySim& sim = bodies.sims[i];
-    BodyRecord& record = bodies.records[i];
-    const FxBodyState& state = solver.states[i];
-    const FxRot start = sim.rotation;
-    FxRot end = mul(state.delta_rotation, start);
-    const float norm = std::sqrt(end.c * end.c + end.s * end.s);
-    end = {end.c / norm, end.s / norm};
-    // The origin moves with the centre of mass and swings about it as the body turns.
-    const FxVec2f origin_step =
-        state.delta_position + rotate(start, sim.local_center) - rotate(end, sim.local_center);
-    FxCarryAdd(sim.origin, sim.carry, origin_step);
-    sim.rotation = end;
-    sim.linear_velocity = state.linear_velocity;
-    sim.angular_velocity = state.angular_velocity;
-    clamp_velocity(settings, sim);
-    sim.force = {};
-
-    const bool resting = length_squared(sim.linear_velocity) < settings.linear_sleep_speed * settings.linear_sleep_speed &&
-                         sim.angular_velocity * sim.angular_velocity < settings.angular_sleep_speed * settings.angular_sleep_speed;
-    record.sleep_time = (resting && record.can_sleep) ? record.sleep_time + dt : 0.0f;
-
-    record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
-    broad.refresh(record, sim.aabb);
-  }
+  const std::span<const std::uint32_t> moving = solver.integration.moving_bodies();
+  step.tasks.for_each_range(static_cast<std::uint32_t>(moving.size()), bodies_per_block, min_parallel_bodies,
+                            [&](std::uint32_t first, std::uint32_t last) {
+                              for (const std::uint32_t i : moving.subspan(first, last - first)) {
+                                finalize_body(step.settings, solver.states[i], bodies.sims[i], bodies.records[i], broad);
+                              }
+                            });
 }
 
 void store_impulses(const SolverData& solver, ContactCache& contacts) { solver.contact_solver.store_impulses(contacts); }

@@ -115,6 +115,7 @@ void World::reserve_scratch() {
   sleep_.reserve(n);
   continuous_.reserve(n);
   contacts_.slots.reserve(4 * n);
+  narrow_phase_.reserve(4 * n);
 }
 
 std::uint32_t World::index_of(const FxEntity& entity) const {

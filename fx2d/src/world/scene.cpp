@@ -38,6 +38,7 @@ void require(bool condition, const char* field, const char* expected) {
 // Throws FxInvalidArgument unless every setting is in range.
 void validate_settings(const FxSceneSettings& s) {
   constexpr float max_damping_ratio = 1000.0f;  // far past critical (1); beyond it only overflow
+  constexpr int max_workers = 64;               // far past any core count a step scales to
   require(is_finite(s.gravity), "gravity", "finite components");
   // Bounded, not only finite: a dt of 1e38 s or a damping ratio of 1e38 overflows the soft-constraint
   // coefficients (make_softness) into inf * 0, and a dt of 1e-40 s underflows the substep to 0.
@@ -59,6 +60,9 @@ void validate_settings(const FxSceneSettings& s) {
   require(std::isfinite(s.max_push_speed) && s.max_push_speed > 0.0f, "max_push_speed", "a finite number > 0");
   require(std::isfinite(s.linear_slop) && s.linear_slop >= 0.0f, "linear_slop", "a finite number >= 0");
   require(std::isfinite(s.max_linear_speed) && s.max_linear_speed > 0.0f, "max_linear_speed", "a finite number > 0");
+  require(s.workers >= 1 && s.workers <= max_workers, "workers", "an integer in [1, 64]");
+  require((s.scheduler.enqueue == nullptr) == (s.scheduler.wait == nullptr), "scheduler",
+          "both enqueue and wait, or neither");
 }
 
 // A substep's rate caps a soft constraint's stiffness: above a quarter of it the spring would
@@ -73,7 +77,7 @@ constexpr float spring_pushes_per_push = 8.0f;
 
 }  // namespace
 
-StepContext::StepContext(const FxSceneSettings& s, std::uint32_t bodies, StageClock& stage_clock)
+StepContext::StepContext(const FxSceneSettings& s, std::uint32_t bodies, StageClock& stage_clock, const Tasks& step_tasks)
     : settings(s),
       substep_dt(s.dt / static_cast<float>(s.substeps)),
       // Any more would take a body past max_linear_speed within one substep, where it is clamped anyway.
@@ -83,18 +87,21 @@ StepContext::StepContext(const FxSceneSettings& s, std::uint32_t bodies, StageCl
               1.0f / substep_dt, s.max_push_speed, s.max_push_speed / spring_pushes_per_push, s.linear_slop},
       joint_softness(make_softness(capped_hertz(s.joint_hertz, substep_dt), s.joint_damping_ratio, substep_dt)),
       body_count(bodies),
-      clock(stage_clock) {}
+      clock(stage_clock),
+      tasks(step_tasks) {}
 
 World::World(const FxSceneSettings& s, FxScene& owner) : settings_(s), owner_(owner) {
   validate_settings(settings_);
 #if FX2D_SCALAR_SOLVER
   settings_.force_scalar_solver = true;  // a build that measures the scalar twin (CMake FX2D_SCALAR_SOLVER)
 #endif
+  tasks_.configure(settings_);
 }
 
 void World::set_settings(const FxSceneSettings& settings) {
   validate_settings(settings);
   settings_ = settings;
+  tasks_.configure(settings_);
   if (!settings.sleeping) {
     for (std::uint32_t i = 0; i < bodies_.count(); ++i) wake_body(i);
   }
@@ -107,10 +114,10 @@ void World::step() {
   stepping_ = true;
   {
     StageClock clock(profile_, FxStage::broad_phase);
-    const StepContext step(settings_, bodies_.count(), clock);
+    const StepContext step(settings_, bodies_.count(), clock, tasks_);
     update_broad_phase(step, broad_phase_, bodies_, contacts_, constraints_);
     clock.switch_to(FxStage::collide);
-    update_contacts(step, contacts_, bodies_, broad_phase_.tree);
+    update_contacts(step, narrow_phase_, contacts_, bodies_, broad_phase_.tree);
     clock.switch_to(FxStage::prepare);
     prepare_solver(step, solver_, bodies_, contacts_);
     clock.switch_to(FxStage::colour_and_pack);

@@ -1,7 +1,7 @@
 // The step context: what the stages of one step read, worked out once when the step begins.
 //
 // Every per-step value (the substep time h and its inverse, the soft-constraint coefficients, the
-// speed limits, the body count) has exactly one expression, here, so no two stages can derive the
+// speed limits, the body count, the threads) has exactly one expression, here, so no two stages can derive the
 // same value differently: a value computed twice by different expressions may differ in the last
 // bit, and the solver's results are compared bit for bit.
 #pragma once
@@ -13,11 +13,12 @@
 #include "fx2d/Constraint.h"
 #include "fx2d/Scene.h"
 #include "world/profile_timer.h"
+#include "world/tasks.h"
 
 namespace fx2d::detail {
 
 struct StepContext {
-  StepContext(const FxSceneSettings& settings, std::uint32_t body_count, StageClock& clock);
+  StepContext(const FxSceneSettings& settings, std::uint32_t body_count, StageClock& clock, const Tasks& tasks);
 
   const FxSceneSettings& settings;
   float substep_dt;            // h: seconds per substep
@@ -27,6 +28,7 @@ struct StepContext {
   FxSoftness joint_softness;
   std::uint32_t body_count;    // bodies at the step's start; also the padding body's index
   StageClock& clock;           // charges each stage its time (profile_timer.h)
+  const Tasks& tasks;          // the threads a stage may spread its loops over (tasks.h)
 };
 
 }  // namespace fx2d::detail

@@ -11,12 +11,14 @@
 #include "collision/broad_phase.h"
 #include "collision/contact_cache.h"
 #include "collision/continuous.h"
+#include "collision/narrow_phase.h"
 #include "fx2d/Constraint.h"
 #include "fx2d/Entity.h"
 #include "fx2d/Profile.h"
 #include "fx2d/Scene.h"
 #include "world/sleep.h"
 #include "solver/solver_stages.h"
+#include "world/tasks.h"
 
 namespace fx2d::detail {
 
@@ -59,9 +61,11 @@ class World final {
   Constraints constraints_;
   BroadPhase broad_phase_;
   ContactCache contacts_;
+  NarrowPhaseScratch narrow_phase_;
   SolverData solver_;
   SleepScratch sleep_;
   ContinuousScratch continuous_;
+  Tasks tasks_;
 
   std::function<void(FxScene&)> step_callback_;
   FxProfile profile_;

@@ -15,21 +15,23 @@
 namespace fxbench {
 namespace {
 
-SceneSpec canonical(const std::string& name, int bodies) {
+SceneSpec canonical(const std::string& name, int bodies, int workers = 1) {
   SceneOverrides overrides;
   overrides.bodies = bodies;
+  if (workers > 1) overrides.sets.emplace_back("/solver/fx2d/workers", std::to_string(workers));
   return load_scene_file(std::string(FX2D_SOURCE_DIR) + "/scenes/" + name + ".json", overrides);
 }
 
 struct CanonicalCase {
   const char* scene;
   int bodies;
+  int workers = 1;  // more: the pool's threads allocate nothing in a step either
 };
 
 class Fx2dCanonical : public ::testing::TestWithParam<CanonicalCase> {};
 
 TEST_P(Fx2dCanonical, StepsAllocateNothingAfterWarmUp) {
-  const SceneSpec scene = canonical(GetParam().scene, GetParam().bodies);
+  const SceneSpec scene = canonical(GetParam().scene, GetParam().bodies, GetParam().workers);
   auto engine = make_fx2d_engine();
   engine->build(scene);
   // Scratch is reserved when bodies are created; the first steps may still size what depends on
@@ -44,9 +46,11 @@ TEST_P(Fx2dCanonical, StepsAllocateNothingAfterWarmUp) {
 INSTANTIATE_TEST_SUITE_P(Scenes, Fx2dCanonical,
                          ::testing::Values(CanonicalCase{"stacks", 50}, CanonicalCase{"stacks", 600},
                                            CanonicalCase{"pile", 300}, CanonicalCase{"pile", 1200},
-                                           CanonicalCase{"settling_boxes", 200}, CanonicalCase{"settling_boxes", 800}),
+                                           CanonicalCase{"settling_boxes", 200}, CanonicalCase{"settling_boxes", 800},
+                                           CanonicalCase{"pile", 1200, 2}, CanonicalCase{"settling_boxes", 800, 3}),
                          [](const ::testing::TestParamInfo<CanonicalCase>& param) {
-                           return std::string(param.param.scene) + "_" + std::to_string(param.param.bodies);
+                           return std::string(param.param.scene) + "_" + std::to_string(param.param.bodies) +
+                                  (param.param.workers > 1 ? "_workers" + std::to_string(param.param.workers) : "");
                          });
 
 TEST(Fx2dCanonicalStacks, EveryBoxWithinFiveMillimetresAfterTwoHundredSteps) {
