@@ -24,6 +24,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 
 #include "analysis/summary.h"
 #include "commands/cli_options.h"
@@ -68,7 +69,10 @@ struct SweepOptions {
       {"box2d", "position_iterations", "--box2d-position", 0, {1, 3, 8}, {}},
       {"ode", "iterations", "--ode-iterations", 1, {5, 10, 20, 40, 80}, {}},
       {"fx2d", "relax_passes", "--fx2d-relax", 1, {}, Fx2dSettings::engine_relax_passes},
+      {"chipmunk", "iterations", "--chipmunk-iterations", 1, {2, 5, 10, 20, 40}, {}},  // unset: the knob's
+                                                                                       // default
   };
+  std::vector<std::string> axis_texts;  // --axis ENGINE.KNOB=v1,v2,...: any engine's integer knob
   std::vector<double> dts;  // empty: the scene's own
   int repeats = 3;
   bool json = false;
@@ -108,7 +112,9 @@ bool swept_on(const KnobAxis& axis, const std::string& engine) { return axis.eng
 // The scene's own value of each swept knob of `engine`: what the resolved scene holds under
 // /solver, or the engine's default for an optional key the scene leaves out.
 Knobs default_knobs(const SceneSpec& scene, const std::vector<KnobAxis>& axes, const std::string& engine) {
-  const auto settings = nlohmann::json::parse(scene.resolved_json).at("solver").at(engine);
+  // A plugin's block is absent from a scene that sets none of its knobs.
+  const auto settings =
+      nlohmann::json::parse(scene.resolved_json).at("solver").value(engine, nlohmann::json::object());
   Knobs knobs;
   for (const KnobAxis& axis : axes) {
     if (!swept_on(axis, engine)) continue;
@@ -441,9 +447,64 @@ H5Table table_h5(const Sweep& sweep, const SweepOptions& options) {
           std::move(columns)};
 }
 
-void sweep_command(const SweepOptions& options, const std::string& command_line) {
+// The knob `--axis ENGINE.KNOB=...` names, among the selected engines' knobs.
+const Knob& axis_knob(const SweepOptions& options, const std::string& text, const std::string& engine,
+                      const std::string& key) {
+  for (const EngineInfo* selected : options.engines.selected()) {
+    if (selected->solver != engine) continue;
+    const auto knob = std::ranges::find(selected->knobs, key, &Knob::name);
+    if (knob == selected->knobs.end())
+      throw InputError("--axis " + text + ": " + engine + " has no knob " + key +
+                       " (fx2d-bench engines lists them)");
+    if (knob->type != Knob::Type::integer)
+      throw InputError("--axis " + text + ": " + key +
+                       " is not an integer knob; only integer knobs are swept");
+    return *knob;
+  }
+  throw InputError("--axis " + text + ": no selected engine reads /solver/" + engine);
+}
+
+// Each --axis ENGINE.KNOB=v1,v2,...: the values of a short form's axis, or a new axis of a plugin's
+// knob; then each axis of a plugin's knob takes the knob's default where a scene leaves it unset.
+void add_axes(SweepOptions& options) {
+  for (const std::string& text : options.axis_texts) {
+    const auto dot = text.find('.');
+    const auto equals = text.find('=');
+    if (dot == std::string::npos || equals == std::string::npos || dot > equals)
+      throw InputError("--axis " + text +
+                       ": expected ENGINE.KNOB=v1,v2,... such as chipmunk.iterations=5,10,20");
+    const std::string engine = text.substr(0, dot);
+    const std::string key = text.substr(dot + 1, equals - dot - 1);
+    const Knob& knob = axis_knob(options, text, engine, key);
+    std::vector<int> values;
+    std::stringstream list(text.substr(equals + 1));
+    for (std::string item; std::getline(list, item, ',');) {
+      int value = 0;
+      if (!CLI::detail::lexical_cast(item, value) || value < knob.min || value > knob.max)
+        throw InputError("--axis " + text + formatted(": expected integers from %g", knob.min) +
+                         formatted(" to %g, got '", knob.max) + item + "'");
+      values.push_back(value);
+    }
+    const auto existing = std::ranges::find_if(
+        options.axes, [&](const KnobAxis& axis) { return axis.engine == engine && axis.key == key; });
+    if (existing != options.axes.end())
+      existing->values = std::move(values);
+    else
+      options.axes.push_back({engine, key, "--axis", static_cast<int>(knob.min), std::move(values), {}});
+  }
+  for (KnobAxis& axis : options.axes) {
+    for (const EngineInfo* engine : options.engines.selected()) {
+      const auto knob = std::ranges::find(engine->knobs, axis.key, &Knob::name);
+      if (engine->solver == axis.engine && knob != engine->knobs.end() && !axis.when_unset)
+        axis.when_unset = static_cast<int>(knob->default_value);
+    }
+  }
+}
+
+void sweep_command(SweepOptions options, const std::string& command_line) {
   if (!options.out.empty() && !options.force && std::filesystem::exists(options.out))
     throw InputError(options.out + ": exists; pass --force to overwrite it");
+  add_axes(options);
   const Sweep sweep = run_sweep(options, command_line);
   if (options.json)
     std::cout << json_of(sweep).dump(2) << '\n';
@@ -476,6 +537,11 @@ void register_sweep(CLI::App& app, const std::string& command_line) {
                               ->check(CLI::Range(axis.min_value, 1000));
     if (!axis.values.empty()) option->capture_default_str();
   }
+  sweep
+      ->add_option("--axis", options->axis_texts,
+                   "Sweep any engine's integer knob, e.g. chipmunk.iterations=5,10,20 (the flags above are "
+                   "its short forms)")
+      ->allow_extra_args(false);
   sweep->add_option("--dt", options->dts, "Time steps to try, s, comma-separated (default: the scene's)")
       ->delimiter(',')
       ->allow_extra_args(false)

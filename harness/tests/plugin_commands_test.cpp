@@ -2,6 +2,8 @@
 // compare, gate, ab, sweep, stability and report, each driven through the fx2d-bench binary as a
 // user types it. The plugin is this tree's Fx2D, so each command must give its rows the plugin's
 // label and the very figures of the built-in engine; none can break unseen for plugins again.
+// Then what a plugin declares (ABI version 4), through Chipmunk2D's plugin: its knobs checked,
+// swept and listed, its capabilities refusing a scene before anything is measured.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -149,6 +151,80 @@ TEST_F(PluginCommands, ReportDrawsThePluginsRuns) {
   std::ifstream page(path("report/index.html"));
   const std::string html{std::istreambuf_iterator<char>(page), {}};
   EXPECT_NE(html.find("label"), std::string::npos);
+}
+
+TEST_F(PluginCommands, AKnobOutOfItsRangeIsRefusedInOneLineBeforeMeasuring) {
+  const Ending ended =
+      bench({"run", "stacks", "--engine", "chipmunk", "--set", "/solver/chipmunk/iterations=0"});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_EQ(
+      ended.err,
+      "fx2d-bench: scene stacks: /solver/chipmunk/iterations: expected an integer from 1 to 1000, got 0\n");
+  EXPECT_EQ(ended.out, "");
+}
+
+TEST_F(PluginCommands, AKeyThatIsNoKnobIsRefusedWithTheKnobsItCouldBe) {
+  const Ending ended =
+      bench({"run", "stacks", "--engine", "chipmunk", "--set", "/solver/chipmunk/iteration=5"});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_EQ(ended.err,
+            "fx2d-bench: scene stacks: /solver/chipmunk/iteration: not a knob of chipmunk; expected one of "
+            "iterations, sleeping, sleep_time, collision_slop\n");
+}
+
+TEST_F(PluginCommands, SweepAxisSweepsAPluginsKnobBesideTheScenesOwnValue) {
+  const Ending ended = bench_on_small_stacks(
+      "sweep", {"--repeats", "1", "--engine", "chipmunk", "--axis", "chipmunk.iterations=3,7", "--json"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  const json sweep = json::parse(ended.out);
+  std::vector<int> iterations;
+  for (const json& point : sweep.at("points")) iterations.push_back(point.at("settings").at("iterations"));
+  EXPECT_EQ(iterations, (std::vector<int>{3, 7, 10}));  // 10: the knob's default, the scene's own point
+}
+
+TEST_F(PluginCommands, SweepAxisRefusesAKnobTheEngineLacks) {
+  const Ending ended =
+      bench_on_small_stacks("sweep", {"--engine", "chipmunk", "--axis", "chipmunk.substeps=1,2"});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_EQ(ended.err,
+            "fx2d-bench: --axis chipmunk.substeps=1,2: chipmunk has no knob substeps (fx2d-bench engines "
+            "lists them)\n");
+}
+
+TEST_F(PluginCommands, EnginesListsEachEnginesKnobs) {
+  const Ending ended = bench({"engines"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  EXPECT_NE(
+      ended.out.find("chipmunk.iterations, chipmunk.sleeping, chipmunk.sleep_time, chipmunk.collision_slop"),
+      std::string::npos)
+      << ended.out;
+  EXPECT_NE(ended.out.find("fx2d.substeps, fx2d.velocity_passes"), std::string::npos) << ended.out;
+}
+
+TEST_F(PluginCommands, AnEngineWithoutBulletsRefusesASceneWithOneNamingIt) {
+  const std::string scene = std::string(FX2D_SOURCE_DIR) + "/scenes/tests/joints_and_bounce.json";
+  const Ending ended = bench({"run", scene, "--engine", "chipmunk", "--set", "/bodies/1/bullet=true"});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_NE(ended.err.find("engine chipmunk cannot build bullets"), std::string::npos) << ended.err;
+}
+
+TEST_F(PluginCommands, AbRefusesBuildsOfTwoDifferentEngines) {
+  const Ending ended =
+      bench_on_small_stacks("ab", {"--a", FX2D_BENCH_PLUGIN, "--b", FX2D_BENCH_CHIPMUNK_PLUGIN});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_NE(ended.err.find("--a is fx2d and --b is chipmunk; ab judges two builds of one engine"),
+            std::string::npos)
+      << ended.err;
+}
+
+TEST_F(PluginCommands, AbTimesTwoBuildsOfChipmunk) {
+  const Ending ended = bench_on_small_stacks(
+      "ab", {"--a", FX2D_BENCH_CHIPMUNK_PLUGIN, "--b", copy_of(FX2D_BENCH_CHIPMUNK_PLUGIN, "other.so"),
+             "--rounds", "6", "--json"});
+  ASSERT_NE(ended.exit_code, 2) << ended.err;
+  const json report = json::parse(ended.out);
+  ASSERT_FALSE(report.at("rows").empty());
+  EXPECT_EQ(report.at("rows")[0].at("physics"), "same");
 }
 
 }  // namespace
