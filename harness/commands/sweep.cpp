@@ -82,6 +82,9 @@ struct SweepOptions {
 
 using Knobs = std::vector<std::pair<std::string, int>>;  // (key, value), in axis order
 
+// The largest value a short form's flag takes: far beyond any useful iteration count.
+constexpr int max_knob_value = 1000;
+
 struct GridPoint {
   Knobs knobs;
   double dt = 0.0;
@@ -475,22 +478,32 @@ void add_axes(SweepOptions& options) {
                        ": expected ENGINE.KNOB=v1,v2,... such as chipmunk.iterations=5,10,20");
     const std::string engine = text.substr(0, dot);
     const std::string key = text.substr(dot + 1, equals - dot - 1);
-    const Knob& knob = axis_knob(options, text, engine, key);
+    const auto existing = std::ranges::find_if(
+        options.axes, [&](const KnobAxis& axis) { return axis.engine == engine && axis.key == key; });
+    // A short form's axis (Box2D's and ODE's included, which declare no knobs) keeps its flag's
+    // bounds; any other axis takes its knob's.
+    double low = 0.0;
+    double high = max_knob_value;
+    if (existing != options.axes.end()) {
+      low = existing->min_value;
+    } else {
+      const Knob& knob = axis_knob(options, text, engine, key);
+      low = knob.min;
+      high = knob.max;
+    }
     std::vector<int> values;
     std::stringstream list(text.substr(equals + 1));
     for (std::string item; std::getline(list, item, ',');) {
       int value = 0;
-      if (!CLI::detail::lexical_cast(item, value) || value < knob.min || value > knob.max)
-        throw InputError("--axis " + text + formatted(": expected integers from %g", knob.min) +
-                         formatted(" to %g, got '", knob.max) + item + "'");
+      if (!CLI::detail::lexical_cast(item, value) || value < low || value > high)
+        throw InputError("--axis " + text + formatted(": expected integers from %g", low) +
+                         formatted(" to %g, got '", high) + item + "'");
       values.push_back(value);
     }
-    const auto existing = std::ranges::find_if(
-        options.axes, [&](const KnobAxis& axis) { return axis.engine == engine && axis.key == key; });
     if (existing != options.axes.end())
       existing->values = std::move(values);
     else
-      options.axes.push_back({engine, key, "--axis", static_cast<int>(knob.min), std::move(values), {}});
+      options.axes.push_back({engine, key, "--axis", static_cast<int>(low), std::move(values), {}});
   }
   for (KnobAxis& axis : options.axes) {
     for (const EngineInfo* engine : options.engines.selected()) {
@@ -534,7 +547,7 @@ void register_sweep(CLI::App& app, const std::string& command_line) {
     CLI::Option* option = sweep->add_option(axis.flag, axis.values, axis.values.empty() ? what + " (default: not swept)" : what)
                               ->delimiter(',')
                               ->allow_extra_args(false)
-                              ->check(CLI::Range(axis.min_value, 1000));
+                              ->check(CLI::Range(axis.min_value, max_knob_value));
     if (!axis.values.empty()) option->capture_default_str();
   }
   sweep

@@ -182,6 +182,17 @@ TEST_F(PluginCommands, SweepAxisSweepsAPluginsKnobBesideTheScenesOwnValue) {
   EXPECT_EQ(iterations, (std::vector<int>{3, 7, 10}));  // 10: the knob's default, the scene's own point
 }
 
+TEST_F(PluginCommands, SweepAxisSetsTheShortFormsOfEnginesWithoutKnobs) {
+  const Ending ended = bench_on_small_stacks(
+      "sweep", {"--repeats", "1", "--engine", "box2d", "--axis", "box2d.velocity_iterations=2,3", "--box2d-position",
+                "3", "--json"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  const json sweep = json::parse(ended.out);
+  std::vector<int> iterations;
+  for (const json& point : sweep.at("points")) iterations.push_back(point.at("settings").at("velocity_iterations"));
+  EXPECT_EQ(iterations, (std::vector<int>{2, 3, 8}));  // 8: the scene's own
+}
+
 TEST_F(PluginCommands, SweepAxisRefusesAKnobTheEngineLacks) {
   const Ending ended =
       bench_on_small_stacks("sweep", {"--engine", "chipmunk", "--axis", "chipmunk.substeps=1,2"});
