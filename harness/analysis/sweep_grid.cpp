@@ -19,7 +19,9 @@ bool swept_on(const KnobAxis& axis, const std::string& engine) { return axis.eng
 // The scene's own value of each swept knob of `engine`: what the resolved scene holds under
 // /solver, or the engine's default for an optional key the scene leaves out.
 Knobs default_knobs(const SceneSpec& scene, const std::vector<KnobAxis>& axes, const std::string& engine) {
-  const auto settings = nlohmann::json::parse(scene.resolved_json).at("solver").at(engine);
+  // A plugin's block is absent from a scene that sets none of its knobs.
+  const auto settings =
+      nlohmann::json::parse(scene.resolved_json).at("solver").value(engine, nlohmann::json::object());
   Knobs knobs;
   for (const KnobAxis& axis : axes) {
     if (!swept_on(axis, engine)) continue;

@@ -1,5 +1,5 @@
-// `fx2d-bench ab --a X --b Y [SCENE ...]`: two builds of Fx2D, back to back in one process, and
-// the verdict `fx2d-bench compare` gives on them.
+// `fx2d-bench ab --a X --b Y [SCENE ...]`: two builds of one engine (Fx2D, or any engine plugin),
+// back to back in one process, and the verdict `fx2d-bench compare` gives on them.
 //
 // Reads top to bottom: the options; the checks made before anything is built (scenes, --out, both
 // builds resolved, valgrind for --counter); the two builds turned into loaded plugins
@@ -7,8 +7,8 @@
 // each named on stderr with the plugin file loaded; every scene measured in ABBA rounds
 // (interleave.h: why rounds alternate, and what a round is), then with --counter instructions
 // each build's step loop counted under callgrind from that same plugin file
-// (instruction_counter.h); one result file holding both builds
-// as engines fx2d@A and fx2d@B; then the A/B verdict, computed by compare's own functions on the
+// (instruction_counter.h); one result file holding both builds as engines NAME@A and NAME@B
+// (fx2d@A and fx2d@B for Fx2D); then the A/B verdict, computed by compare's own functions on the
 // same split of that file `fx2d-bench compare ab.h5` makes, with compare's renderers and exit
 // codes (0 no regression, 1 regression, 3 inconclusive; 2 bad input, as everywhere).
 #include <unistd.h>
@@ -52,10 +52,10 @@ struct AbOptions {
   bool markdown = false;
 };
 
-// The engine entry of one build: Fx2D's plugin engine named fx2d@A or fx2d@B, its version saying
-// which build it is (e.g. "0.1.0 a1b2c3d (HEAD~1) -DFX2D_NATIVE=ON").
+// The engine entry of one build: the plugin's engine named after itself, e.g. fx2d@A or
+// chipmunk@B, its version saying which build it is (e.g. "0.1.0 a1b2c3d (HEAD~1) -DFX2D_NATIVE=ON").
 EngineInfo variant_engine(const PluginBuild& build, Variant variant) {
-  EngineInfo engine = plugin_engine_info(build.plugin, variant_engine_name("fx2d", variant));
+  EngineInfo engine = plugin_engine_info(build.plugin, variant_engine_name(build.plugin->name(), variant));
   engine.version = std::string(build.plugin->table().library_version()) + " " + build.description;
   return engine;
 }
@@ -97,6 +97,9 @@ ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
 
   const PluginBuild build_a = prepare_plugin_build(resolved_a);
   const PluginBuild build_b = prepare_plugin_build(resolved_b);
+  if (build_a.plugin->name() != build_b.plugin->name())
+    throw InputError("--a is " + build_a.plugin->name() + " and --b is " + build_b.plugin->name() +
+                     "; ab judges two builds of one engine (compare two engines with run and compare)");
   const EngineInfo engine_a = variant_engine(build_a, Variant::a);
   const EngineInfo engine_b = variant_engine(build_b, Variant::b);
   std::cerr << "fx2d-bench: A = " << engine_a.version << " (plugin " << build_a.path << ")\nfx2d-bench: B = "
@@ -163,7 +166,8 @@ CLI::Validator enough_rounds_to_decide() {
 
 void register_ab(CLI::App& app, const std::string& command_line, int& exit_status) {
   auto options = std::make_shared<AbOptions>();
-  CLI::App* ab = app.add_subcommand("ab", "Time two builds of Fx2D back to back in one process and judge B against A");
+  CLI::App* ab = app.add_subcommand(
+      "ab", "Time two builds of one engine back to back in one process and judge B against A");
   const std::string build_help =
       "a plugin file, a build directory holding libfx2d_bench_plugin.so, `worktree`, or a git revision";
   ab->add_option("--a", options->a, "Build A (the reference): " + build_help)->required();

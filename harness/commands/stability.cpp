@@ -80,7 +80,7 @@ TestResult search_test(const StabilityOptions& options, const EngineInfo& engine
     show_progress(engine, test, parameter);
     outcome.overrides.push_back(assignments_text(test.overrides(parameter)));
     const SceneSpec scene = load_test_scene(test, options.suite_dir, sets, parameter);
-    if (outcome.settings.empty()) outcome.settings = nlohmann::json::parse(scene.resolved_json)["solver"][engine.solver].dump();
+    if (outcome.settings.empty()) outcome.settings = engine_settings_json(engine, scene);
     // A stress the engine cannot build that the test's engine_limit does not foresee is where it
     // stops holding.
     if (const std::optional<std::string> missing = missing_capability(engine.capabilities, scene))

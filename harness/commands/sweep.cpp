@@ -19,6 +19,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "analysis/sweep_grid.h"
 #include "commands/cli_options.h"
@@ -47,13 +48,19 @@ struct SweepOptions {
       {"box2d", "position_iterations", "--box2d-position", 0, {1, 3, 8}, {}},
       {"ode", "iterations", "--ode-iterations", 1, {5, 10, 20, 40, 80}, {}},
       {"fx2d", "relax_passes", "--fx2d-relax", 1, {}, Fx2dSettings::engine_relax_passes},
+      {"chipmunk", "iterations", "--chipmunk-iterations", 1, {2, 5, 10, 20, 40}, {}},  // unset: the knob's
+                                                                                       // default
   };
+  std::vector<std::string> axis_texts;  // --axis ENGINE.KNOB=v1,v2,...: any engine's integer knob
   std::vector<double> dts;  // empty: the scene's own
   int repeats = 3;
   bool json = false;
   std::string out;
   bool force = false;
 };
+
+// The largest value a short form's flag takes: far beyond any useful iteration count.
+constexpr int max_knob_value = 1000;
 
 // One engine's grid on one scene, and the scene's own value of each of its swept knobs.
 struct EngineGrid {
@@ -160,9 +167,74 @@ Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
   return sweep;
 }
 
-void sweep_command(const SweepOptions& options, const std::string& command_line) {
+// The knob `--axis ENGINE.KNOB=...` names, among the selected engines' knobs.
+const Knob& axis_knob(const SweepOptions& options, const std::string& text, const std::string& engine,
+                      const std::string& key) {
+  for (const EngineInfo* selected : options.engines.selected()) {
+    if (selected->solver != engine) continue;
+    const auto knob = std::ranges::find(selected->knobs, key, &Knob::name);
+    if (knob == selected->knobs.end())
+      throw InputError("--axis " + text + ": " + engine + " has no knob " + key +
+                       " (fx2d-bench engines lists them)");
+    if (knob->type != Knob::Type::integer)
+      throw InputError("--axis " + text + ": " + key +
+                       " is not an integer knob; only integer knobs are swept");
+    return *knob;
+  }
+  throw InputError("--axis " + text + ": no selected engine reads /solver/" + engine);
+}
+
+// Each --axis ENGINE.KNOB=v1,v2,...: the values of a short form's axis, or a new axis of a plugin's
+// knob; then each axis of a plugin's knob takes the knob's default where a scene leaves it unset.
+void add_axes(SweepOptions& options) {
+  for (const std::string& text : options.axis_texts) {
+    const auto dot = text.find('.');
+    const auto equals = text.find('=');
+    if (dot == std::string::npos || equals == std::string::npos || dot > equals)
+      throw InputError("--axis " + text +
+                       ": expected ENGINE.KNOB=v1,v2,... such as chipmunk.iterations=5,10,20");
+    const std::string engine = text.substr(0, dot);
+    const std::string key = text.substr(dot + 1, equals - dot - 1);
+    const auto existing = std::ranges::find_if(
+        options.axes, [&](const KnobAxis& axis) { return axis.engine == engine && axis.key == key; });
+    // A short form's axis (Box2D's and ODE's included, which declare no knobs) keeps its flag's
+    // bounds; any other axis takes its knob's.
+    double low = 0.0;
+    double high = max_knob_value;
+    if (existing != options.axes.end()) {
+      low = existing->min_value;
+    } else {
+      const Knob& knob = axis_knob(options, text, engine, key);
+      low = knob.min;
+      high = knob.max;
+    }
+    std::vector<int> values;
+    std::stringstream list(text.substr(equals + 1));
+    for (std::string item; std::getline(list, item, ',');) {
+      int value = 0;
+      if (!CLI::detail::lexical_cast(item, value) || value < low || value > high)
+        throw InputError("--axis " + text + formatted(": expected integers from %g", low) +
+                         formatted(" to %g, got '", high) + item + "'");
+      values.push_back(value);
+    }
+    if (existing != options.axes.end())
+      existing->values = std::move(values);
+    else
+      options.axes.push_back({engine, key, "--axis", static_cast<int>(low), std::move(values), {}});
+  }
+  for (KnobAxis& axis : options.axes) {
+    for (const EngineInfo* engine : options.engines.selected()) {
+      const auto knob = std::ranges::find(engine->knobs, axis.key, &Knob::name);
+      if (engine->solver == axis.engine && knob != engine->knobs.end() && !axis.when_unset)
+        axis.when_unset = static_cast<int>(knob->default_value);
+    }
+  }
+}
+
+void sweep_command(SweepOptions options, const std::string& command_line) {
   if (!options.out.empty() && !options.force && std::filesystem::exists(options.out))
     throw InputError(options.out + ": exists; pass --force to overwrite it");
+  add_axes(options);
   const Sweep sweep = run_sweep(options, command_line);
   if (options.json)
     std::cout << sweep_json(sweep).dump(2) << '\n';
@@ -192,9 +264,14 @@ void register_sweep(CLI::App& app, const std::string& command_line) {
     CLI::Option* option = sweep->add_option(axis.flag, axis.values, axis.values.empty() ? what + " (default: not swept)" : what)
                               ->delimiter(',')
                               ->allow_extra_args(false)
-                              ->check(CLI::Range(axis.min_value, 1000));
+                              ->check(CLI::Range(axis.min_value, max_knob_value));
     if (!axis.values.empty()) option->capture_default_str();
   }
+  sweep
+      ->add_option("--axis", options->axis_texts,
+                   "Sweep any engine's integer knob, e.g. chipmunk.iterations=5,10,20 (the flags above are "
+                   "its short forms)")
+      ->allow_extra_args(false);
   sweep->add_option("--dt", options->dts, "Time steps to try, s, comma-separated (default: the scene's)")
       ->delimiter(',')
       ->allow_extra_args(false)

@@ -43,6 +43,7 @@ std::optional<std::string> missing_capability(const EngineCapabilities& capabili
   }
   for (const JointSpec& joint : scene.joints)
     if (std::ranges::find(capabilities.joints, joint.kind) == capabilities.joints.end()) return plural_name(joint.kind);
+  if (!capabilities.bullets && std::ranges::any_of(scene.bodies, &BodySpec::bullet)) return "bullets";
   return std::nullopt;
 }
 

@@ -3,8 +3,9 @@
 // An adapter builds a SceneSpec into its engine (untimed), steps it (timed by the caller), and
 // reports state in the spec's body order so that the harness can measure every engine with the
 // same geometry. Adapters are listed in engines/registry.cpp; nothing else names an engine.
-// Besides the registry's own, an engine can be a plugin: a build of Fx2D loaded from a shared
-// library (engines/plugin_engine.h), named "plugin:/path/to/libfx2d_bench_plugin.so".
+// Besides the registry's own, an engine can be a plugin: any engine behind the C ABI of
+// plugin/fx2d_plugin_abi.h loaded from a shared library (engines/plugin_engine.h), named
+// "plugin:/path/to/plugin.so".
 #pragma once
 
 #include <functional>
@@ -54,12 +55,26 @@ struct EngineCapabilities {
   std::vector<JointKind> joints{JointKind::distance, JointKind::revolute};
   std::size_t max_bodies = std::numeric_limits<std::size_t>::max();
   double max_linear_speed = std::numeric_limits<double>::infinity();  // m/s, of any body at the start
+  bool bullets = true;   // honours a body's bullet flag; false: a scene with a bullet is refused
+  bool sleeping = true;  // resting bodies can sleep (listed, never a reason to refuse)
 };
 
 // What `scene` needs that `capabilities` lack, as a phrase that completes "cannot build ..."
-// ("polygons", "distance joints", "more than 65536 bodies", "bodies faster than 400 m/s");
+// ("polygons", "distance joints", "bullets", "more than 65536 bodies", "bodies faster than 400 m/s");
 // nullopt when it can build it all.
 std::optional<std::string> missing_capability(const EngineCapabilities& capabilities, const SceneSpec& scene);
+
+// One solver setting an engine reads from /solver/<EngineInfo::solver>/<name> (a plugin's
+// Fx2dBenchKnob): what `engines` lists, the harness validates and `sweep --axis` sweeps.
+struct Knob {
+  enum class Type { integer, number, boolean };
+  std::string name;
+  Type type = Type::integer;
+  double min = 0.0;  // inclusive bounds
+  double max = 0.0;
+  double default_value = 0.0;
+  std::string description;
+};
 
 struct EngineInfo {
   std::string name;       // what --engine selects: "fx2d", "box2d", "ode", or a plugin's name
@@ -69,7 +84,18 @@ struct EngineInfo {
   std::function<std::unique_ptr<Engine>()> make;
   std::string solver;     // the scene's /solver/<solver> block it reads: "fx2d" for an Fx2D plugin
   EngineCapabilities capabilities;
+  // Empty for an engine whose settings the scene format itself defines (box2d, ode).
+  std::vector<Knob> knobs;
 };
+
+// The value of each of `knobs` in `scene`, in their order: the resolved scene's
+// /solver/<solver>/<knob>, or the knob's default where the scene leaves it out. Throws InputError
+// naming the scene and the JSON pointer of a key that is no knob or a value out of its range.
+std::vector<double> knob_values(const std::string& solver, std::span<const Knob> knobs,
+                                const SceneSpec& scene);
+// The engine's settings in `scene` as a JSON object: the resolved /solver/<solver> block, with
+// every knob it leaves out at its default. What result files record as the settings of a run.
+std::string engine_settings_json(const EngineInfo& engine, const SceneSpec& scene);
 
 // Every engine the harness knows, in a fixed order.
 std::span<const EngineInfo> engine_registry();

@@ -11,6 +11,8 @@
 namespace fxbench {
 
 std::unique_ptr<Engine> make_fx2d_engine();
+// The built-in Fx2D's registry entry: its plugin table's name, knobs and capabilities.
+EngineInfo fx2d_engine_info();
 std::unique_ptr<Engine> make_box2d_engine();
 std::unique_ptr<Engine> make_ode_engine();
 

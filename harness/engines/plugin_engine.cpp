@@ -8,6 +8,7 @@
 #include <dlfcn.h>
 #endif
 
+#include <algorithm>
 #include <filesystem>
 #include <stdexcept>
 #include <utility>
@@ -54,12 +55,16 @@ int32_t shape_of(ShapeKind shape) {
   throw std::logic_error("plugin engine: unknown shape kind");
 }
 
+int32_t joint_of(JointKind joint) {
+  return joint == JointKind::distance ? FX2D_BENCH_DISTANCE_JOINT : FX2D_BENCH_REVOLUTE_JOINT;
+}
+
 int32_t count_of(std::size_t size) { return static_cast<int32_t>(size); }
 
 // The scene as the flat structs of the ABI, holding everything the structs point to.
 class FlatScene {
  public:
-  explicit FlatScene(const SceneSpec& spec) {
+  FlatScene(const SceneSpec& spec, std::vector<double> settings) : settings_(std::move(settings)) {
     std::size_t vertex_count = 0;
     for (const BodySpec& body : spec.bodies) vertex_count += body.vertices.size();
     vertices_.reserve(vertex_count);  // bodies point into it: it must never reallocate
@@ -67,18 +72,13 @@ class FlatScene {
     for (const BodySpec& body : spec.bodies) bodies_.push_back(flat_body(body));
     joints_.reserve(spec.joints.size());
     for (const JointSpec& joint : spec.joints) {
-      joints_.push_back({joint.kind == JointKind::distance ? FX2D_BENCH_DISTANCE_JOINT : FX2D_BENCH_REVOLUTE_JOINT,
-                         joint.body_a, joint.body_b, to_c(joint.local_anchor_a), to_c(joint.local_anchor_b),
-                         joint.length});
+      joints_.push_back({joint_of(joint.kind), joint.body_a, joint.body_b, to_c(joint.local_anchor_a),
+                         to_c(joint.local_anchor_b), joint.length});
     }
-    scene_ = {to_c(spec.gravity),
-              spec.dt,
-              bodies_.data(),
-              count_of(bodies_.size()),
-              joints_.data(),
-              count_of(joints_.size()),
-              {spec.fx2d.substeps, spec.fx2d.velocity_passes, spec.fx2d.sleeping ? 1 : 0,
-               spec.fx2d.relax_passes.value_or(0), spec.fx2d.max_push_speed.value_or(0.0), spec.fx2d.workers.value_or(0)}};
+    scene_ = {to_c(spec.gravity), spec.dt,
+              bodies_.data(),     count_of(bodies_.size()),
+              joints_.data(),     count_of(joints_.size()),
+              settings_.data(),   count_of(settings_.size())};
   }
 
   const Fx2dBenchScene& scene() const { return scene_; }
@@ -107,6 +107,7 @@ class FlatScene {
   std::vector<Fx2dBenchVec2> vertices_;
   std::vector<Fx2dBenchBody> bodies_;
   std::vector<Fx2dBenchJoint> joints_;
+  std::vector<double> settings_;
   Fx2dBenchScene scene_{};
 };
 
@@ -126,7 +127,7 @@ class PluginEngine final : public Engine {
   }
 
   void build(const SceneSpec& scene) override {
-    const FlatScene flat(scene);
+    const FlatScene flat(scene, knob_values(plugin_->name(), plugin_->knobs(), scene));
     char error[512] = "";
     Fx2dBenchInstance* instance = table_.create(&flat.scene(), error, sizeof error);
     if (instance == nullptr) throw std::runtime_error(error[0] != '\0' ? error : "plugin: create failed");
@@ -154,12 +155,70 @@ class PluginEngine final : public Engine {
 
  private:
   std::shared_ptr<const Plugin> plugin_;  // keeps the library that holds table_ loaded
-  const Fx2dBenchPluginV1& table_;
+  const Fx2dBenchPlugin& table_;
   Fx2dBenchInstance* instance_ = nullptr;
   mutable std::vector<Fx2dBenchBodyState> states_;  // read_state's buffer, sized once per build
 };
 
+// An engine's name is also a key of the scene format's /solver object: kept to what a JSON
+// pointer and a command line take without quoting.
+bool is_engine_name(const char* name) {
+  const std::string_view text = name != nullptr ? name : "";
+  return !text.empty() && std::ranges::all_of(text, [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
+Knob::Type knob_type(int32_t type) {
+  switch (type) {
+    case FX2D_BENCH_KNOB_INTEGER:
+      return Knob::Type::integer;
+    case FX2D_BENCH_KNOB_NUMBER:
+      return Knob::Type::number;
+    case FX2D_BENCH_KNOB_BOOLEAN:
+      return Knob::Type::boolean;
+    default:
+      throw std::invalid_argument("knob type " + std::to_string(type) +
+                                  " is none of integer, number, boolean");
+  }
+}
+
+// The table's knobs, each checked: a name of its own, a known type, a default inside its range.
+std::vector<Knob> knobs_of(const Fx2dBenchPlugin& table) {
+  std::vector<Knob> knobs;
+  for (int32_t i = 0; i < table.knob_count; ++i) {
+    const Fx2dBenchKnob& knob = table.knobs[i];
+    if (!is_engine_name(knob.name))
+      throw std::invalid_argument("knob " + std::to_string(i) +
+                                  ": name is not lower case letters, digits and '_'");
+    if (std::ranges::find(knobs, std::string(knob.name), &Knob::name) != knobs.end())
+      throw std::invalid_argument(std::string("knob ") + knob.name + " is declared twice");
+    if (!(knob.min <= knob.default_value && knob.default_value <= knob.max))
+      throw std::invalid_argument(std::string("knob ") + knob.name + ": default outside [min, max]");
+    knobs.push_back({knob.name, knob_type(knob.type), knob.min, knob.max, knob.default_value,
+                     knob.description != nullptr ? knob.description : ""});
+  }
+  return knobs;
+}
+
+// "chipmunk.iterations, chipmunk.sleeping, ...": the keys it reads, for `engines`.
+std::string settings_description(const Plugin& plugin) {
+  std::string text;
+  for (const Knob& knob : plugin.knobs())
+    text += (text.empty() ? "" : ", ") + plugin.name() + "." + knob.name;
+  return text.empty() ? "no settings" : text;
+}
+
 }  // namespace
+
+Plugin::Plugin(void* library, const Fx2dBenchPlugin* table, std::string path)
+    : library_(library), table_(table), path_(std::move(path)) {
+  if (!is_engine_name(table->name))
+    throw std::invalid_argument("engine name is not lower case letters, digits and '_'");
+  if (table->knob_count < 0 || (table->knob_count > 0 && table->knobs == nullptr))
+    throw std::invalid_argument("knob_count " + std::to_string(table->knob_count) + " without knobs");
+  knobs_ = knobs_of(*table);
+}
 
 std::shared_ptr<const Plugin> Plugin::load(const std::string& path) {
   const std::string absolute = std::filesystem::absolute(path).lexically_normal().string();
@@ -172,16 +231,22 @@ std::shared_ptr<const Plugin> Plugin::load(const std::string& path) {
   };
   void* entry = find_symbol(library, FX2D_BENCH_PLUGIN_ENTRY);
   if (entry == nullptr) close_and_fail("not an fx2d-bench plugin (no " FX2D_BENCH_PLUGIN_ENTRY " symbol)");
-  const Fx2dBenchPluginV1* table = reinterpret_cast<Fx2dBenchPluginEntry>(entry)();
+  const Fx2dBenchPlugin* table = reinterpret_cast<Fx2dBenchPluginEntry>(entry)();
   if (table == nullptr) close_and_fail(FX2D_BENCH_PLUGIN_ENTRY " returned no table");
   if (table->abi_version != FX2D_BENCH_PLUGIN_ABI_VERSION) {
-    close_and_fail("plugin ABI version " + std::to_string(table->abi_version) + ", this fx2d-bench reads version " +
-                   std::to_string(FX2D_BENCH_PLUGIN_ABI_VERSION) + "; rebuild the plugin from this source tree");
+    close_and_fail("plugin ABI version " + std::to_string(table->abi_version) +
+                   ", this fx2d-bench reads version " + std::to_string(FX2D_BENCH_PLUGIN_ABI_VERSION) +
+                   "; rebuild the plugin against this fx2d-bench");
   }
-  return std::shared_ptr<const Plugin>(new Plugin(library, table, absolute));
+  try {
+    return std::shared_ptr<const Plugin>(new Plugin(library, table, absolute));
+  } catch (const std::invalid_argument& malformed) {
+    close_and_fail(malformed.what());
+  }
+  return nullptr;
 }
 
-std::shared_ptr<const Plugin> Plugin::linked(const Fx2dBenchPluginV1& table) {
+std::shared_ptr<const Plugin> Plugin::linked(const Fx2dBenchPlugin& table) {
   return std::shared_ptr<const Plugin>(new Plugin(nullptr, &table, {}));
 }
 
@@ -195,6 +260,20 @@ std::string Plugin::version() const {
   return build.empty() ? version : version + " " + build;
 }
 
+EngineCapabilities Plugin::capabilities() const {
+  const Fx2dBenchCapabilities& declared = table_->capabilities;
+  EngineCapabilities capabilities{.shapes = {}, .joints = {}};
+  for (ShapeKind shape : {ShapeKind::circle, ShapeKind::box, ShapeKind::polygon})
+    if ((declared.shapes & FX2D_BENCH_BIT(shape_of(shape))) != 0) capabilities.shapes.push_back(shape);
+  for (JointKind joint : {JointKind::distance, JointKind::revolute})
+    if ((declared.joints & FX2D_BENCH_BIT(joint_of(joint))) != 0) capabilities.joints.push_back(joint);
+  if (declared.max_bodies > 0) capabilities.max_bodies = static_cast<std::size_t>(declared.max_bodies);
+  if (declared.max_linear_speed > 0.0) capabilities.max_linear_speed = declared.max_linear_speed;
+  capabilities.bullets = declared.bullets != 0;
+  capabilities.sleeping = declared.sleeping != 0;
+  return capabilities;
+}
+
 std::unique_ptr<Engine> make_plugin_engine(std::shared_ptr<const Plugin> plugin) {
   return std::make_unique<PluginEngine>(std::move(plugin));
 }
@@ -203,10 +282,11 @@ EngineInfo plugin_engine_info(std::shared_ptr<const Plugin> plugin, std::string 
   EngineInfo info;
   info.name = std::move(name);
   info.version = plugin->version();
-  info.settings = fx2d_settings_description;
+  info.settings = settings_description(*plugin);
+  info.solver = plugin->name();
+  info.capabilities = plugin->capabilities();
+  info.knobs = plugin->knobs();
   info.make = [plugin = std::move(plugin)] { return make_plugin_engine(plugin); };
-  info.solver = "fx2d";
-  info.capabilities = fx2d_capabilities;
   return info;
 }
 

@@ -19,14 +19,12 @@ bool is_sampled(int step, int every, int steps) { return step % every == 0 || st
 
 int sample_count(int every, int steps) { return steps / every + (steps % every == 0 ? 0 : 1); }
 
-// The scene's solver settings for this engine as "key=value ..." (the resolved scene holds them
-// under /solver/<EngineInfo::solver>), so the record says what the engine ran with without the runner
-// naming any engine. Empty for a scene that has no resolved JSON, such as one built in code.
-std::string settings_of(const SceneSpec& scene, const std::string& engine) {
-  const auto resolved = nlohmann::json::parse(scene.resolved_json, nullptr, false);
-  if (resolved.is_discarded() || !resolved.contains("solver") || !resolved["solver"].contains(engine)) return {};
+// The engine's settings in the scene as "key=value ..." (engine_settings_json), so the record
+// says what the engine ran with without the runner naming any engine.
+std::string settings_of(const SceneSpec& scene, const EngineInfo& engine) {
+  const nlohmann::json block = nlohmann::json::parse(engine_settings_json(engine, scene));
   std::string settings;
-  for (const auto& [key, value] : resolved["solver"][engine].items()) {
+  for (const auto& [key, value] : block.items()) {
     if (!settings.empty()) settings += ' ';
     settings += key + "=" + value.dump();
   }
@@ -37,7 +35,7 @@ RunRecord empty_record(const SceneSpec& scene, const EngineInfo& info, const Eng
   RunRecord record;
   record.engine = info.name;
   record.engine_version = info.version;
-  record.engine_settings = settings_of(scene, info.solver);
+  record.engine_settings = settings_of(scene, info);
   record.scene = scene.name;
   record.scene_hash = scene.hash;
   record.bodies = scene.size;

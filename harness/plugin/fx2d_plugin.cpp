@@ -1,7 +1,8 @@
 // Fx2D behind the plugin C ABI (fx2d_plugin_abi.h): the one place where a flat C scene becomes an
-// FxScene. fx2d-bench links this file statically as its built-in "fx2d" engine (through the
-// internal name fx2d_bench_plugin_table) and builds it, against any revision of Fx2D, into a
-// plugin that exports only fx2d_bench_plugin_v1 (compiled with FX2D_BENCH_PLUGIN_MODULE).
+// FxScene, and where Fx2D declares its knobs (FxSceneSettings' solver fields) and capabilities. fx2d-bench
+// links this file statically as its built-in "fx2d" engine (through the internal name
+// fx2d_bench_plugin_table) and builds it, against any revision of Fx2D, into a plugin that exports only
+// fx2d_bench_plugin_v1 (compiled with FX2D_BENCH_PLUGIN_MODULE).
 //
 // Invariant: no exception leaves a function of the table; create() turns each into its one-line
 // error. Conversions to Fx2D's floats are exactly those the harness always made, so the built-in
@@ -28,7 +29,8 @@
 #ifndef FX2D_BENCH_PLUGIN_DESCRIPTION
 #define FX2D_BENCH_PLUGIN_DESCRIPTION ""
 #endif
-// Threads per step of a scene that leaves fx2d.workers out (CMake FX2D_BENCH_WORKERS); 0: one.
+// Threads per step of a scene that leaves fx2d.workers out (CMake FX2D_BENCH_WORKERS); 0: the
+// engine's default.
 #ifndef FX2D_BENCH_WORKERS
 #define FX2D_BENCH_WORKERS 0
 #endif
@@ -73,8 +75,13 @@ fx2d::FxBodyType body_type(int32_t type) {
 // ab builds this file around older revisions of Fx2D too, some from before FxEntityDef::bullet;
 // a scene that asks such a revision for a bullet is refused rather than run without one.
 template <class Def>
+constexpr bool has_bullets = requires(Def def) {
+  def.bullet;
+};
+
+template <class Def>
 void mark_bullet(Def& def, bool bullet) {
-  if constexpr (requires { def.bullet; }) {
+  if constexpr (has_bullets<Def>) {
     def.bullet = bullet;
   } else if (bullet) {
     throw std::invalid_argument("this revision of Fx2D has no bullets (FxEntityDef::bullet)");
@@ -115,26 +122,65 @@ std::shared_ptr<fx2d::FxConstraint> make_joint(const Fx2dBenchInstance& instance
   return std::make_shared<fx2d::FxRevoluteJoint>(a, b, a->position() + rotate(a->rotation(), anchor_a));
 }
 
+// The knobs, in the order create() receives their values; each default is this revision's own.
+enum Knob { substeps, velocity_passes, sleeping, relax_passes, max_push_speed, workers, knob_count };
+
+const fx2d::FxSceneSettings engine_defaults{};
+
 // ab builds this file against older revisions too, whose settings have no worker count: there
-// a scene that asks for workers runs on one thread, with the same results.
+// every step runs on one thread, with the same results. FX2D_BENCH_WORKERS (CMake) sets this
+// build's default, so that one build at 1 and 2 workers can be timed against each other.
 template <class Settings>
-void set_workers(Settings& settings, int32_t workers) {
+int default_workers(const Settings& settings) {
   if constexpr (requires { settings.workers; }) {
-    if (workers == 0) workers = FX2D_BENCH_WORKERS;
-    if (workers > 0) settings.workers = workers;
+    return FX2D_BENCH_WORKERS > 0 ? FX2D_BENCH_WORKERS : settings.workers;
+  } else {
+    return 1;
+  }
+}
+
+template <class Settings>
+void set_workers(Settings& settings, int workers) {
+  if constexpr (requires { settings.workers; }) settings.workers = workers;
+}
+
+const Fx2dBenchKnob knobs[knob_count] = {
+    {"substeps", FX2D_BENCH_KNOB_INTEGER, 1, 1000, static_cast<double>(engine_defaults.substeps),
+     "velocity substeps per step"},
+    {"velocity_passes", FX2D_BENCH_KNOB_INTEGER, 0, 1000,
+     static_cast<double>(engine_defaults.velocity_passes), "soft sequential-impulse passes per substep"},
+    {"sleeping", FX2D_BENCH_KNOB_BOOLEAN, 0, 1, engine_defaults.sleeping ? 1.0 : 0.0,
+     "let resting bodies sleep"},
+    {"relax_passes", FX2D_BENCH_KNOB_INTEGER, 1, 1000, static_cast<double>(engine_defaults.relax_passes),
+     "relaxation passes per substep"},
+    {"max_push_speed", FX2D_BENCH_KNOB_NUMBER, 1e-3, 1e6, static_cast<double>(engine_defaults.max_push_speed),
+     "fastest an overlap is pushed apart, m/s"},
+    {"workers", FX2D_BENCH_KNOB_INTEGER, 1, 64, static_cast<double>(default_workers(engine_defaults)),
+     "threads a step may use; the results are the same on any number"},
+};
+
+// Revisions from before FxSceneSettings::max_linear_speed accept any speed.
+template <class Settings>
+double max_linear_speed(const Settings& settings) {
+  if constexpr (requires { settings.max_linear_speed; }) {
+    return static_cast<double>(settings.max_linear_speed);
+  } else {
+    return 0.0;
   }
 }
 
 std::unique_ptr<Fx2dBenchInstance> build(const Fx2dBenchScene& scene) {
+  if (scene.setting_count != knob_count) throw std::invalid_argument("expected one setting per knob");
+  const double* knob = scene.settings;
   fx2d::FxSceneSettings settings;
   settings.gravity = to_fx(scene.gravity);
   settings.dt = static_cast<float>(scene.dt);
-  settings.substeps = scene.fx2d.substeps;
-  settings.velocity_passes = scene.fx2d.velocity_passes;
-  settings.sleeping = scene.fx2d.sleeping != 0;
-  if (scene.fx2d.relax_passes > 0) settings.relax_passes = scene.fx2d.relax_passes;
-  if (scene.fx2d.max_push_speed > 0.0) settings.max_push_speed = static_cast<float>(scene.fx2d.max_push_speed);
-  set_workers(settings, scene.fx2d.workers);
+  settings.substeps = static_cast<int>(knob[substeps]);
+  settings.velocity_passes = static_cast<int>(knob[velocity_passes]);
+  settings.sleeping = knob[sleeping] != 0.0;
+  settings.relax_passes = static_cast<int>(knob[relax_passes]);
+  settings.max_push_speed = static_cast<float>(knob[max_push_speed]);
+  set_workers(settings, static_cast<int>(knob[workers]));
   auto instance = std::make_unique<Fx2dBenchInstance>();
   instance->scene = std::make_unique<fx2d::FxScene>(settings);
   for (int32_t i = 0; i < scene.body_count; ++i)
@@ -230,10 +276,16 @@ void read_state(const Fx2dBenchInstance* instance, Fx2dBenchBodyState* out, int3
   }
 }
 
-constexpr Fx2dBenchPluginV1 plugin_table = {
+const Fx2dBenchPlugin plugin_table = {
     FX2D_BENCH_PLUGIN_ABI_VERSION,
+    "fx2d",
     &library_version,
     &build_description,
+    knobs,
+    knob_count,
+    {FX2D_BENCH_BIT(FX2D_BENCH_CIRCLE) | FX2D_BENCH_BIT(FX2D_BENCH_BOX) | FX2D_BENCH_BIT(FX2D_BENCH_POLYGON),
+     FX2D_BENCH_BIT(FX2D_BENCH_DISTANCE_JOINT) | FX2D_BENCH_BIT(FX2D_BENCH_REVOLUTE_JOINT), 1,
+     has_bullets<fx2d::FxEntityDef> ? 1 : 0, 0, max_linear_speed(engine_defaults)},
     &create,
     &destroy,
     &step,
@@ -246,11 +298,11 @@ constexpr Fx2dBenchPluginV1 plugin_table = {
 
 }  // namespace
 
-extern "C" const Fx2dBenchPluginV1* fx2d_bench_plugin_table(void) { return &plugin_table; }
+extern "C" const Fx2dBenchPlugin* fx2d_bench_plugin_table(void) { return &plugin_table; }
 
 #ifdef FX2D_BENCH_PLUGIN_MODULE
 // The plugin's only exported symbol; everything else in the library is hidden.
-extern "C" __attribute__((visibility("default"))) const Fx2dBenchPluginV1* fx2d_bench_plugin_v1(void) {
+extern "C" FX2D_BENCH_PLUGIN_EXPORT const Fx2dBenchPlugin* fx2d_bench_plugin_v1(void) {
   return &plugin_table;
 }
 #endif

@@ -49,13 +49,17 @@ std::string join_quoted(std::span<const std::string> names) {
   return joined;
 }
 
-std::string unknown_key_message(std::string_view key, std::span<const std::string> known) {
+std::optional<std::string> near_key(std::string_view key, std::span<const std::string> known) {
   const auto closest =
       std::ranges::min_element(known, {}, [&](const std::string& name) { return edit_distance(key, name); });
-  if (closest != known.end() &&
-      edit_distance(key, *closest) <= std::max<std::size_t>(2, closest->size() / 3)) {
+  if (closest != known.end() && edit_distance(key, *closest) <= std::max<std::size_t>(2, closest->size() / 3))
+    return *closest;
+  return std::nullopt;
+}
+
+std::string unknown_key_message(std::string_view key, std::span<const std::string> known) {
+  if (const auto closest = near_key(key, known))
     return "unknown key; did you mean " + in_quotes(*closest) + "?";
-  }
   return "unknown key; expected one of " + join_quoted(known);
 }
 

@@ -38,8 +38,9 @@ std::string describe_value(const Json& value);
 std::string in_quotes(std::string_view text);
 std::string join_quoted(std::span<const std::string> names);
 
-// "did you mean" when one name is within a third of its length (at least 2 edits) of `key`,
-// else the list of names accepted there.
+// The name of `known` within a third of its length (at least 2 edits) of `key`, if any.
+std::optional<std::string> near_key(std::string_view key, std::span<const std::string> known);
+// "did you mean" the near_key, else the list of names accepted there.
 std::string unknown_key_message(std::string_view key, std::span<const std::string> known);
 
 class ErrorReporter {

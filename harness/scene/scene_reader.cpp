@@ -40,8 +40,32 @@ MaterialSpec read_material(ObjectReader& parent, const MaterialSpec& inherited) 
   return material;
 }
 
+// A plugin engine's block: an object of numbers and true/false under an engine's name, kept as
+// given; the engine checks it against its knobs (engines/engine.h, knob_values) when selected.
+// A name a typo away from one of the format's own blocks is that typo, refused.
+void read_plugin_solvers(ObjectReader& solver, const Json& blocks) {
+  const std::vector<std::string> format_blocks(format_solver_blocks.begin(), format_solver_blocks.end());
+  for (const auto& [name, block] : blocks.items()) {
+    if (std::ranges::find(format_blocks, name) != format_blocks.end()) continue;
+    if (near_key(name, format_blocks))
+      solver.errors().fail(solver.at(name), unknown_key_message(name, format_blocks), true);
+    const bool is_engine_name = !name.empty() && std::ranges::all_of(name, [](char c) {
+      return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+    });
+    if (!is_engine_name)
+      solver.errors().fail(solver.at(name), "expected an engine's name: lower case letters, digits and '_'",
+                           true);
+    ObjectReader settings(solver.errors(), solver.slot(name, Json::object()), solver.at(name));
+    for (const auto& [key, value] : block.items()) {
+      if (!value.is_number() && !value.is_boolean())
+        settings.errors().expected(settings.at(key), "a number or true or false", value);
+    }
+  }
+}
+
 void read_solver(ObjectReader& scene, SceneSpec& spec) {
-  ObjectReader solver(scene.errors(), scene.slot("solver", Json::object()), scene.at("solver"));
+  Json& blocks = scene.slot("solver", Json::object());
+  ObjectReader solver(scene.errors(), blocks, scene.at("solver"));
   constexpr Range kPasses{1.0, 1000.0};
   constexpr Range kPassesOrNone{0.0, 1000.0};
 
@@ -69,6 +93,7 @@ void read_solver(ObjectReader& scene, SceneSpec& spec) {
   spec.ode.auto_disable = ode.boolean("auto_disable", OdeSettings{}.auto_disable);
   ode.finish();
 
+  read_plugin_solvers(solver, blocks);
   solver.finish();
 }
 

@@ -5,9 +5,11 @@
 // builds exactly the same list. Doubles throughout: each adapter converts to its own precision.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace fxbench {
@@ -81,6 +83,10 @@ struct OdeSettings {
 
 // Which accuracy figure a scene is judged by in speed-versus-accuracy charts.
 enum class PrimaryMetric { penetration, displacement };
+
+// The /solver blocks the scene format defines (the three structs above); a scene's any other
+// block holds a plugin engine's knobs, checked by that engine (engines/engine.h).
+inline constexpr std::array<std::string_view, 3> format_solver_blocks{"fx2d", "box2d", "ode"};
 
 struct SceneSpec {
   std::string name;                 // e.g. "pile"

@@ -262,14 +262,14 @@ class BinaryTest : public ::testing::Test {
   fs::path directory_;
 };
 
-TEST_F(BinaryTest, JsonSummaryCoversAllThreeEnginesWithFiniteFigures) {
+TEST_F(BinaryTest, JsonSummaryCoversAllFourEnginesWithFiniteFigures) {
   const Outcome outcome = bench("run pile --bodies 20 --steps 20 --repeats 1 --json");
   ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
   EXPECT_TRUE(outcome.err.empty()) << "stderr is not a terminal, so no progress bar: " << outcome.err;
   const Json summary = Json::parse(outcome.out);
   EXPECT_EQ(summary["schema"], "fx2d-bench.summary/1");
-  ASSERT_EQ(summary["runs"].size(), 3u);
-  const std::vector<std::string> engines{"fx2d", "box2d", "ode"};
+  ASSERT_EQ(summary["runs"].size(), 4u);
+  const std::vector<std::string> engines{"fx2d", "box2d", "ode", "chipmunk"};
   for (std::size_t i = 0; i < engines.size(); ++i) {
     const Json& run = summary["runs"][i];
     EXPECT_EQ(run["engine"], engines[i]);
@@ -320,7 +320,7 @@ TEST_F(BinaryTest, OutFileReadsBackWithEveryRunAndSample) {
                                 " --steps 20 --repeats 2 --warmup 0 --accuracy-every 5 --json --out " + out.string());
   ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
   const ResultSet results = read_results_h5(out.string());
-  ASSERT_EQ(results.runs.size(), 3u);
+  ASSERT_EQ(results.runs.size(), 4u);
   ASSERT_EQ(results.scenes.size(), 1u);
   EXPECT_EQ(results.scenes.front().primary_metric, "displacement");
   EXPECT_FALSE(results.provenance.cpu_model.empty());
@@ -341,9 +341,9 @@ TEST_F(BinaryTest, OutFileReadsBackWithEveryRunAndSample) {
 TEST_F(BinaryTest, EnginesListsEveryEngineOnePerLine) {
   const Outcome outcome = bench("engines");
   ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
-  EXPECT_EQ(std::count(outcome.out.begin(), outcome.out.end(), '\n'), 3) << outcome.out;
+  EXPECT_EQ(std::count(outcome.out.begin(), outcome.out.end(), '\n'), 4) << outcome.out;
   const Json listing = Json::parse(bench("engines --json").out);
-  ASSERT_EQ(listing["engines"].size(), 3u);
+  ASSERT_EQ(listing["engines"].size(), 4u);
   EXPECT_EQ(listing["engines"][0]["name"], "fx2d");
 }
 

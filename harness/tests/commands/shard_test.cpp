@@ -181,8 +181,8 @@ TEST(Merge, ThreeRunShardsAsProcessesMergeToTheUnshardedRunOfEveryScene) {
   const ResultSet merged_runs = read_results_h5(merged);
   EXPECT_FALSE(has_table_h5(merged, "/shard"));
   EXPECT_TRUE(whole_runs.scenes == merged_runs.scenes);
-  ASSERT_EQ(whole_runs.runs.size(), 9u);
-  ASSERT_EQ(merged_runs.runs.size(), 9u);
+  ASSERT_EQ(whole_runs.runs.size(), 12u);  // 4 engines x 3 scenes
+  ASSERT_EQ(merged_runs.runs.size(), 12u);
   for (std::size_t i = 0; i < whole_runs.runs.size(); ++i) {
     const RunRecord& a = whole_runs.runs[i];
     const RunRecord& b = merged_runs.runs[i];

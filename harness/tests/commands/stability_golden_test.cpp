@@ -1,7 +1,7 @@
-// Golden output of `fx2d-bench stability --json` on all three engines: the whole suite in --quick
-// form (about 5 s), and at its defaults (minutes: ODE's pyramids of up to 128 boxes a side), which
-// runs only with FX2D_STABILITY_FULL=1 (ci/nightly checks the same golden on every night). Nothing
-// in it is timed and every engine is deterministic, so the whole document is compared: each
+// Golden output of `fx2d-bench stability --json` on every engine (Fx2D, Box2D, ODE, Chipmunk2D):
+// the whole suite in --quick form (about 5 s), and at its defaults (minutes: ODE's pyramids of up to 128
+// boxes a side), which runs only with FX2D_STABILITY_FULL=1 (ci/nightly checks the same golden on every
+// night). Nothing in it is timed and every engine is deterministic, so the whole document is compared: each
 // search's evaluations (parameter, verdict, criterion, step, overrides), the boundary found, the
 // engines' versions and settings. Any boundary that moves fails here; moving it is a deliberate
 // re-baseline.

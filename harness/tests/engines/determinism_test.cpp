@@ -45,7 +45,7 @@ class DeterminismTest : public ::testing::Test {
   }
   static void TearDownTestSuite() { fs::remove_all(directory_); }
 
-  // Runs all three canonical scenes on all engines in one process.
+  // Runs all three canonical scenes on all four engines in one process.
   static FinalHashes final_hashes(const std::vector<std::string>& plan) {
     std::vector<std::string> arguments{"run", "pile", "stacks", "settling_boxes", "--json"};
     arguments.insert(arguments.end(), plan.begin(), plan.end());
@@ -56,7 +56,7 @@ class DeterminismTest : public ::testing::Test {
       EXPECT_TRUE(run["deterministic"].get<bool>()) << run["engine"] << " " << run["scene"] << ": repeats differ";
       hashes[{run["engine"], run["scene"]}] = run["state_hash"];
     }
-    EXPECT_EQ(hashes.size(), 9u) << "3 engines x 3 scenes";
+    EXPECT_EQ(hashes.size(), 12u) << "4 engines x 3 scenes";
     return hashes;
   }
 

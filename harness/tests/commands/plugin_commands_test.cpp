@@ -1,0 +1,242 @@
+// Every measuring and reading subcommand with a plugin engine beside the built-in one: run,
+// compare, gate, ab, sweep, stability and report, each driven through the fx2d-bench binary as a
+// user types it. The plugin is this tree's Fx2D, so each command must give its rows the plugin's
+// label and the very figures of the built-in engine; none can break unseen for plugins again.
+// Then what a plugin declares (ABI version 4), through Chipmunk2D's plugin: its knobs checked,
+// swept and listed, its capabilities refusing a scene before anything is measured.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "tests/support/bench_process.h"
+#include "tests/support/plugin_copies.h"
+
+namespace fxbench {
+namespace {
+
+using bench_test::Ending;
+using bench_test::run_bench;
+using nlohmann::json;
+
+const std::string labelled_plugin = std::string("plugin:") + FX2D_BENCH_PLUGIN + "|label";
+const std::string both_engines = "fx2d," + labelled_plugin;
+// Small enough that the whole file runs in seconds; stacks has contacts from its first step.
+const std::vector<std::string> small_stacks{"stacks", "--bodies", "10", "--steps", "20"};
+
+class PluginCommands : public test::PluginCopies {
+ public:
+  Ending bench(std::vector<std::string> arguments) const { return run_bench(std::move(arguments), directory_); }
+
+  Ending bench_on_small_stacks(const std::string& command, std::vector<std::string> options) const {
+    std::vector<std::string> arguments{command};
+    arguments.insert(arguments.end(), small_stacks.begin(), small_stacks.end());
+    arguments.insert(arguments.end(), options.begin(), options.end());
+    return bench(arguments);
+  }
+
+  std::string path(const std::string& name) const { return (directory_ / name).string(); }
+
+  // A run file of Fx2D, Box2D and the plugin on small stacks.
+  std::string run_file() const {
+    const Ending ended =
+        bench_on_small_stacks("run", {"--repeats", "2", "--engine", "box2d," + both_engines, "--out", path("run.h5")});
+    EXPECT_EQ(ended.exit_code, 0) << ended.err;
+    return path("run.h5");
+  }
+};
+
+const json& run_of(const json& summary, const std::string& engine) {
+  for (const json& run : summary.at("runs"))
+    if (run.at("engine") == engine) return run;
+  throw std::runtime_error("no run of " + engine);
+}
+
+TEST_F(PluginCommands, RunGivesThePluginsRowTheBuiltInEnginesState) {
+  const Ending ended = bench_on_small_stacks("run", {"--repeats", "2", "--engine", both_engines, "--json"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  const json summary = json::parse(ended.out);
+  EXPECT_EQ(run_of(summary, "label").at("state_hash"), run_of(summary, "fx2d").at("state_hash"));
+  EXPECT_EQ(run_of(summary, "label").at("accuracy"), run_of(summary, "fx2d").at("accuracy"));
+}
+
+TEST_F(PluginCommands, CompareTakesThePluginAsBaseline) {
+  const std::string file = run_file();
+  const Ending ended = bench({"compare", file, "--baseline", "label", "--json"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  const json report = json::parse(ended.out);
+  std::vector<std::string> judged;
+  for (const json& row : report.at("rows")) {
+    EXPECT_EQ(row.at("against"), "label") << row.dump();
+    if (row.at("metric") == "ms_per_step") judged.push_back(row.at("engine"));
+  }
+  EXPECT_EQ(judged, (std::vector<std::string>{"fx2d", "box2d"}));
+}
+
+TEST_F(PluginCommands, CompareRefusesABaselineTheFileDoesNotHoldInOneLine) {
+  const Ending ended = bench({"compare", run_file(), "--baseline", "nobody"});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_EQ(ended.err, "fx2d-bench: " + path("run.h5") + ": no scene has a nobody run and a run of another engine; nothing to compare\n");
+}
+
+// An A/B of a plugin against a copy of itself on small stacks.
+Ending ab_of_plugin_copies(const PluginCommands& test, const std::string& other) {
+  return test.bench_on_small_stacks("ab", {"--a", FX2D_BENCH_PLUGIN, "--b", other, "--rounds", "6", "--json"});
+}
+
+TEST_F(PluginCommands, AbOfAPluginAgainstACopyOfItselfFindsTheSamePhysics) {
+  const Ending ended = ab_of_plugin_copies(*this, copy_of(FX2D_BENCH_PLUGIN, "other.so"));
+  ASSERT_NE(ended.exit_code, 2) << ended.err;
+  const json report = json::parse(ended.out);
+  int step_rows = 0;
+  for (const json& row : report.at("rows")) {
+    if (row.at("metric") != "ms_per_step") continue;
+    ++step_rows;
+    EXPECT_EQ(row.at("physics"), "same");
+    EXPECT_EQ(row.at("accuracy").at("change"), "same");
+  }
+  EXPECT_EQ(step_rows, 1);
+}
+
+TEST_F(PluginCommands, GateJudgesTheAbOfAPlugin) {
+  const Ending ab = ab_of_plugin_copies(*this, copy_of(FX2D_BENCH_PLUGIN, "other.so"));
+  ASSERT_NE(ab.exit_code, 2) << ab.err;
+  { std::ofstream(path("ab.json")) << ab.out; }
+  const Ending gate = bench({"gate", "--policy", std::string(FX2D_SOURCE_DIR) + "/ci/gating.json", path("ab.json"), "--json"});
+  ASSERT_NE(gate.exit_code, 2) << gate.err;
+  const json rows = json::parse(gate.out).at("rows");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].at("scene"), "stacks");
+}
+
+TEST_F(PluginCommands, SweepMeasuresThePluginsOwnGridAndFront) {
+  const Ending ended = bench_on_small_stacks(
+      "sweep", {"--repeats", "1", "--fx2d-substeps", "1,2", "--engine", both_engines, "--json", "--out", path("sweep.h5")});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  const json sweep = json::parse(ended.out);
+  std::vector<json> built_in;
+  std::vector<json> plugged_in;
+  for (const json& point : sweep.at("points"))
+    (point.at("engine") == "label" ? plugged_in : built_in).push_back(point);
+  ASSERT_EQ(plugged_in.size(), built_in.size());
+  ASSERT_GE(plugged_in.size(), 3u);  // two swept substep counts and the scene's own
+  for (std::size_t i = 0; i < plugged_in.size(); ++i) {
+    EXPECT_EQ(plugged_in[i].at("settings"), built_in[i].at("settings"));
+    EXPECT_EQ(plugged_in[i].at("primary_error"), built_in[i].at("primary_error"));
+  }
+  int plugin_fronts = 0;
+  for (const json& front : sweep.at("fronts")) plugin_fronts += front.at("engine") == "label" ? 1 : 0;
+  EXPECT_EQ(plugin_fronts, 1);
+  EXPECT_TRUE(std::filesystem::exists(path("sweep.h5")));
+}
+
+TEST_F(PluginCommands, StabilityFindsThePluginsBoundaryWhereTheBuiltInEnginesIs) {
+  const Ending ended = bench({"stability", "--quick", "--test", "card_house", "--engine", both_engines, "--json"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  const json results = json::parse(ended.out).at("results");
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_EQ(results[1].at("engine"), "label");
+  EXPECT_EQ(results[1].at("settings"), results[0].at("settings"));
+  EXPECT_EQ(results[1].at("first_fail"), results[0].at("first_fail"));
+  EXPECT_EQ(results[1].at("last_pass"), results[0].at("last_pass"));
+}
+
+TEST_F(PluginCommands, ReportDrawsThePluginsRuns) {
+  const std::string file = run_file();
+  const Ending ended = bench({"report", file, "-o", path("report")});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  std::ifstream page(path("report/index.html"));
+  const std::string html{std::istreambuf_iterator<char>(page), {}};
+  EXPECT_NE(html.find("label"), std::string::npos);
+}
+
+TEST_F(PluginCommands, AKnobOutOfItsRangeIsRefusedInOneLineBeforeMeasuring) {
+  const Ending ended =
+      bench({"run", "stacks", "--engine", "chipmunk", "--set", "/solver/chipmunk/iterations=0"});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_EQ(
+      ended.err,
+      "fx2d-bench: scene stacks: /solver/chipmunk/iterations: expected an integer from 1 to 1000, got 0\n");
+  EXPECT_EQ(ended.out, "");
+}
+
+TEST_F(PluginCommands, AKeyThatIsNoKnobIsRefusedWithTheKnobsItCouldBe) {
+  const Ending ended =
+      bench({"run", "stacks", "--engine", "chipmunk", "--set", "/solver/chipmunk/iteration=5"});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_EQ(ended.err,
+            "fx2d-bench: scene stacks: /solver/chipmunk/iteration: not a knob of chipmunk; expected one of "
+            "iterations, sleeping, sleep_time, collision_slop\n");
+}
+
+TEST_F(PluginCommands, SweepAxisSweepsAPluginsKnobBesideTheScenesOwnValue) {
+  const Ending ended = bench_on_small_stacks(
+      "sweep", {"--repeats", "1", "--engine", "chipmunk", "--axis", "chipmunk.iterations=3,7", "--json"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  const json sweep = json::parse(ended.out);
+  std::vector<int> iterations;
+  for (const json& point : sweep.at("points")) iterations.push_back(point.at("settings").at("iterations"));
+  EXPECT_EQ(iterations, (std::vector<int>{3, 7, 10}));  // 10: the knob's default, the scene's own point
+}
+
+TEST_F(PluginCommands, SweepAxisSetsTheShortFormsOfEnginesWithoutKnobs) {
+  const Ending ended = bench_on_small_stacks(
+      "sweep", {"--repeats", "1", "--engine", "box2d", "--axis", "box2d.velocity_iterations=2,3", "--box2d-position",
+                "3", "--json"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  const json sweep = json::parse(ended.out);
+  std::vector<int> iterations;
+  for (const json& point : sweep.at("points")) iterations.push_back(point.at("settings").at("velocity_iterations"));
+  EXPECT_EQ(iterations, (std::vector<int>{2, 3, 8}));  // 8: the scene's own
+}
+
+TEST_F(PluginCommands, SweepAxisRefusesAKnobTheEngineLacks) {
+  const Ending ended =
+      bench_on_small_stacks("sweep", {"--engine", "chipmunk", "--axis", "chipmunk.substeps=1,2"});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_EQ(ended.err,
+            "fx2d-bench: --axis chipmunk.substeps=1,2: chipmunk has no knob substeps (fx2d-bench engines "
+            "lists them)\n");
+}
+
+TEST_F(PluginCommands, EnginesListsEachEnginesKnobs) {
+  const Ending ended = bench({"engines"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  EXPECT_NE(
+      ended.out.find("chipmunk.iterations, chipmunk.sleeping, chipmunk.sleep_time, chipmunk.collision_slop"),
+      std::string::npos)
+      << ended.out;
+  EXPECT_NE(ended.out.find("fx2d.substeps, fx2d.velocity_passes"), std::string::npos) << ended.out;
+}
+
+TEST_F(PluginCommands, AnEngineWithoutBulletsRefusesASceneWithOneNamingIt) {
+  const std::string scene = std::string(FX2D_SOURCE_DIR) + "/scenes/tests/joints_and_bounce.json";
+  const Ending ended = bench({"run", scene, "--engine", "chipmunk", "--set", "/bodies/1/bullet=true"});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_NE(ended.err.find("engine chipmunk cannot build bullets"), std::string::npos) << ended.err;
+}
+
+TEST_F(PluginCommands, AbRefusesBuildsOfTwoDifferentEngines) {
+  const Ending ended =
+      bench_on_small_stacks("ab", {"--a", FX2D_BENCH_PLUGIN, "--b", FX2D_BENCH_CHIPMUNK_PLUGIN});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_NE(ended.err.find("--a is fx2d and --b is chipmunk; ab judges two builds of one engine"),
+            std::string::npos)
+      << ended.err;
+}
+
+TEST_F(PluginCommands, AbTimesTwoBuildsOfChipmunk) {
+  const Ending ended = bench_on_small_stacks(
+      "ab", {"--a", FX2D_BENCH_CHIPMUNK_PLUGIN, "--b", copy_of(FX2D_BENCH_CHIPMUNK_PLUGIN, "other.so"),
+             "--rounds", "6", "--json"});
+  ASSERT_NE(ended.exit_code, 2) << ended.err;
+  const json report = json::parse(ended.out);
+  ASSERT_FALSE(report.at("rows").empty());
+  EXPECT_EQ(report.at("rows")[0].at("physics"), "same");
+}
+
+}  // namespace
+}  // namespace fxbench

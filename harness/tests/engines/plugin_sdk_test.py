@@ -1,0 +1,52 @@
+#!/usr/bin/python3
+"""The plugin SDK from outside: `cmake --install` of this build into a scratch prefix, the template
+(harness/plugin/template) configured against it with find_package(Fx2dBench) and built out of tree,
+then run by fx2d-bench beside Fx2D, the template's knob checked and swept.
+
+Usage: plugin_sdk_test.py CMAKE BUILD_DIR SOURCE_DIR FX2D_BENCH"""
+import json
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+
+def run(command, **options):
+    done = subprocess.run(command, capture_output=True, text=True, **options)
+    if done.returncode != 0:
+        sys.exit(f"FAILED ({done.returncode}): {' '.join(map(str, command))}\n{done.stdout}\n{done.stderr}")
+    return done
+
+
+def main():
+    cmake, build, source, bench = sys.argv[1:5]
+    with tempfile.TemporaryDirectory() as scratch:
+        prefix = Path(scratch) / "prefix"
+        plugin_build = Path(scratch) / "plugin"
+        run([cmake, "--install", build, "--prefix", prefix])
+        assert (prefix / "include/fx2d_bench/fx2d_plugin_abi.h").is_file(), "the header was not installed"
+        run([cmake, "-S", Path(source) / "harness/plugin/template", "-B", plugin_build,
+             "-DCMAKE_BUILD_TYPE=Release", f"-DCMAKE_PREFIX_PATH={prefix}"])
+        run([cmake, "--build", plugin_build])
+        plugin = plugin_build / "libmy_engine_plugin.so"
+        engines = f"fx2d,plugin:{plugin}|mine"
+        summary = json.loads(run([bench, "run", "stacks", "--bodies", "10", "--steps", "30", "--repeats", "1",
+                                  "--engine", engines, "--json"]).stdout)
+        runs = {entry["engine"]: entry for entry in summary["runs"]}
+        assert set(runs) == {"fx2d", "mine"}, runs.keys()
+        # The template's bodies fall through each other: its top box ends far below Fx2D's stack.
+        assert runs["mine"]["accuracy"]["max_displacement"] > 10 * runs["fx2d"]["accuracy"]["max_displacement"], runs
+        refused = subprocess.run([bench, "run", "stacks", "--engine", engines, "--set", "/solver/my_engine/substeps=65"],
+                                 capture_output=True, text=True)
+        assert refused.returncode == 2, refused
+        assert refused.stderr == ("fx2d-bench: scene stacks: /solver/my_engine/substeps: expected an integer "
+                                  "from 1 to 64, got 65\n"), refused.stderr
+        sweep = json.loads(run([bench, "sweep", "stacks", "--bodies", "10", "--steps", "30", "--repeats", "1",
+                                "--engine", f"plugin:{plugin}|mine", "--axis", "my_engine.substeps=2,4",
+                                "--json"]).stdout)
+        assert [point["settings"]["substeps"] for point in sweep["points"]] == [2, 4, 1], sweep["points"]
+    print("plugin SDK: installed, template built out of tree, run, checked and swept")
+
+
+if __name__ == "__main__":
+    main()
