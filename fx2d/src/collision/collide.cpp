@@ -27,8 +27,8 @@ constexpr float reference_face_hysteresis = 0.1f * linear_slop;
 // half the angle between the faces, so holding the corners would cost friction of the tangent of
 // that lean. Within the hysteresis, where which face is the reference depends only on which shape
 // is A, the manifold's single point takes the bisector of the two faces, which treats both bodies
-// alike. (A tie as wide as a linear slop also catches fast corners driven deep into each other:
-// settling_boxes 800 then reached 12.5 mm of penetration against 3.3 mm.)
+// alike. (A tie as wide as a linear slop took settling_boxes 800 to 12.5 mm of penetration in
+// 200 steps, against 3.3 mm with the face normal; this one leaves it at 3.3 mm.)
 constexpr float corner_tie_tolerance = reference_face_hysteresis;
 
 // Feature id of a polygon-polygon point: which polygon holds the reference face, the reference
