@@ -105,6 +105,28 @@ TEST(CollidePolygons, RotatedBoxCornerOnAFaceGivesOnePoint) {
   expect_near(m.points[0].point, {center.x + corner_offset.x, -0.005f});
 }
 
+TEST(CollidePolygons, CardsLeaningTogetherMeetCornerToCornerAlongTheirBisector) {
+  // Two cards leaning 20 degrees from vertical, mirror images across x = 0, whose top corners meet
+  // there (an A-frame's apex), each pushed 1 mm towards the other. By symmetry the contact normal
+  // is horizontal; either card's face normal would lean 20 degrees and cost friction tan 20.
+  const FxShape card = FxShape::box(0.02f, 0.5f);
+  const float angle = 0.34906585f;
+  const float c = std::cos(angle);
+  const float s = std::sin(angle);
+  // The left card's top right corner, local (0.02, 0.5) turned by -angle.
+  const FxVec2f corner_offset{0.02f * c + 0.5f * s, 0.5f * c - 0.02f * s};
+  const float push = 0.001f;
+  const FxTransform left{{push - corner_offset.x, -corner_offset.y}, FxRot::from_angle(-angle)};
+  const FxTransform right{{corner_offset.x - push, -corner_offset.y}, FxRot::from_angle(angle)};
+  for (const bool left_first : {true, false}) {
+    const Manifold m = left_first ? collide_pair(card, left, card, right) : collide_pair(card, right, card, left);
+    ASSERT_EQ(m.point_count, 1);
+    expect_near(m.normal, {left_first ? 1.0f : -1.0f, 0.0f});
+    // The corners overlap by 2 mm across the apex; measured along a card's face it is 2 cos 20 mm.
+    EXPECT_NEAR(m.points[0].separation, -2.0f * push * c, tolerance);
+  }
+}
+
 TEST(CollidePolygons, PointsBeyondTheSpeculativeDistanceAreDropped) {
   const FxShape box = FxShape::box(0.5f, 0.5f);
   // A gap of 0.03 m between the faces.
