@@ -82,28 +82,48 @@ cpShape* make_shape(cpBody* body, const Fx2dBenchBody& spec) {
   }
 }
 
+// What Chipmunk allocated for one scene, freed even when building it failed part way. The space
+// first: freeing it touches none of its children, which are then freed one by one (removing each
+// from the space would cost a linear search per body).
+struct ChipmunkObjects {
+  cpSpace* space = new_space();
+  std::vector<cpBody*> bodies;  // in the scene's order
+  std::vector<cpShape*> shapes;
+  std::vector<cpConstraint*> joints;
+
+  ChipmunkObjects() = default;
+  ChipmunkObjects(const ChipmunkObjects&) = delete;
+  ChipmunkObjects& operator=(const ChipmunkObjects&) = delete;
+  ~ChipmunkObjects() {
+    cpSpaceFree(space);
+    for (cpConstraint* joint : joints) cpConstraintFree(joint);
+    for (cpShape* shape : shapes) cpShapeFree(shape);
+    for (cpBody* body : bodies) cpBodyFree(body);
+  }
+};
+
 class ChipmunkWorld {
  public:
   explicit ChipmunkWorld(const Fx2dBenchScene& scene) : dt_(scene.dt) {
-    // No destructor runs when a constructor throws: a refused scene's half-built world is freed here.
-    try {
-      build(scene);
-    } catch (...) {
-      free_all();
-      throw;
+    const double* knob = scene.settings;
+    cpSpaceSetGravity(chipmunk_.space, to_cp(scene.gravity));
+    cpSpaceSetIterations(chipmunk_.space, static_cast<int>(knob[iterations]));
+    cpSpaceSetSleepTimeThreshold(chipmunk_.space, knob[sleeping] != 0.0 ? knob[sleep_time] : INFINITY);
+    cpSpaceSetCollisionSlop(chipmunk_.space, knob[collision_slop]);
+    for (int32_t i = 0; i < scene.body_count; ++i) add_body(scene.bodies[i]);
+    for (int32_t i = 0; i < scene.joint_count; ++i) {
+      chipmunk_.joints.push_back(make_joint(scene.joints[i]));
+      cpSpaceAddConstraint(chipmunk_.space, chipmunk_.joints.back());
     }
   }
-  ChipmunkWorld(const ChipmunkWorld&) = delete;
-  ChipmunkWorld& operator=(const ChipmunkWorld&) = delete;
-  ~ChipmunkWorld() { free_all(); }
 
-  void step() { cpSpaceStep(space_, dt_); }
+  void step() { cpSpaceStep(chipmunk_.space, dt_); }
 
   // Touching pairs of bodies (one shape per body here), sleeping ones included: each arbiter is
   // seen from both its bodies but counted from one, the static one never being walked.
   int32_t contact_count() const {
     int32_t count = 0;
-    for (cpBody* body : bodies_) {
+    for (cpBody* body : chipmunk_.bodies) {
       if (cpBodyGetType(body) == CP_BODY_TYPE_STATIC) continue;
       cpBodyEachArbiter(
           body,
@@ -120,8 +140,8 @@ class ChipmunkWorld {
   }
 
   void read_state(Fx2dBenchBodyState* out, int32_t count) const {
-    for (std::size_t i = 0; i < bodies_.size() && static_cast<int32_t>(i) < count; ++i) {
-      const cpBody* body = bodies_[i];
+    for (std::size_t i = 0; i < chipmunk_.bodies.size() && static_cast<int32_t>(i) < count; ++i) {
+      const cpBody* body = chipmunk_.bodies[i];
       const cpVect position = cpBodyGetPosition(body);
       const cpVect velocity = cpBodyGetVelocity(body);
       out[i] = {{position.x, position.y},
@@ -132,31 +152,18 @@ class ChipmunkWorld {
   }
 
  private:
-  void build(const Fx2dBenchScene& scene) {
-    const double* knob = scene.settings;
-    cpSpaceSetGravity(space_, to_cp(scene.gravity));
-    cpSpaceSetIterations(space_, static_cast<int>(knob[iterations]));
-    cpSpaceSetSleepTimeThreshold(space_, knob[sleeping] != 0.0 ? knob[sleep_time] : INFINITY);
-    cpSpaceSetCollisionSlop(space_, knob[collision_slop]);
-    for (int32_t i = 0; i < scene.body_count; ++i) add_body(scene.bodies[i]);
-    for (int32_t i = 0; i < scene.joint_count; ++i) {
-      joints_.push_back(make_joint(scene.joints[i]));
-      cpSpaceAddConstraint(space_, joints_.back());
-    }
-  }
-
   void add_body(const Fx2dBenchBody& spec) {
     cpBody* body = make_body(spec);
-    bodies_.push_back(body);
+    chipmunk_.bodies.push_back(body);
     cpBodySetPosition(body, to_cp(spec.position));
     cpBodySetAngle(body, spec.angle);
     cpShape* shape = make_shape(body, spec);
-    shapes_.push_back(shape);
+    chipmunk_.shapes.push_back(shape);
     if (spec.type == FX2D_BENCH_DYNAMIC_BODY) cpShapeSetDensity(shape, spec.density);
     cpShapeSetFriction(shape, std::sqrt(spec.dynamic_friction));
     cpShapeSetElasticity(shape, spec.restitution);
-    cpSpaceAddBody(space_, body);
-    cpSpaceAddShape(space_, shape);
+    cpSpaceAddBody(chipmunk_.space, body);
+    cpSpaceAddShape(chipmunk_.space, shape);
     if (spec.type != FX2D_BENCH_STATIC_BODY) {
       cpBodySetVelocity(body, to_cp(spec.linear_velocity));
       cpBodySetAngularVelocity(body, spec.angular_velocity);
@@ -164,8 +171,8 @@ class ChipmunkWorld {
   }
 
   cpConstraint* make_joint(const Fx2dBenchJoint& spec) const {
-    cpBody* a = fx2d_bench::joint_body(bodies_, spec.body_a);
-    cpBody* b = fx2d_bench::joint_body(bodies_, spec.body_b);
+    cpBody* a = fx2d_bench::joint_body(chipmunk_.bodies, spec.body_a);
+    cpBody* b = fx2d_bench::joint_body(chipmunk_.bodies, spec.body_b);
     if (spec.kind == FX2D_BENCH_REVOLUTE_JOINT)
       return cpPivotJointNew(a, b, cpBodyLocalToWorld(a, to_cp(spec.local_anchor_a)));
     cpConstraint* pin = cpPinJointNew(a, b, to_cp(spec.local_anchor_a), to_cp(spec.local_anchor_b));
@@ -173,19 +180,7 @@ class ChipmunkWorld {
     return pin;
   }
 
-  // The space first: freeing it touches none of its children, which are then freed one by one
-  // (removing each from the space would cost a linear search per body).
-  void free_all() {
-    cpSpaceFree(space_);
-    for (cpConstraint* joint : joints_) cpConstraintFree(joint);
-    for (cpShape* shape : shapes_) cpShapeFree(shape);
-    for (cpBody* body : bodies_) cpBodyFree(body);
-  }
-
-  cpSpace* space_ = new_space();
-  std::vector<cpBody*> bodies_;  // in the scene's order
-  std::vector<cpShape*> shapes_;
-  std::vector<cpConstraint*> joints_;
+  ChipmunkObjects chipmunk_;
   double dt_;
 };
 
