@@ -104,7 +104,8 @@ std::string build_key(const std::vector<std::string>& cmake_arguments) {
     hash.add(argument);
     hash.add(std::string_view("\0", 1));
   }
-  for (const char* name : {"CMakeLists.txt", "Fx2dBenchPlugin.cmake", "fx2d_plugin.cpp", "fx2d_plugin_abi.h"})
+  for (const char* name :
+       {"CMakeLists.txt", "Fx2dBenchPlugin.cmake", "fx2d_plugin.cpp", "fx2d_plugin_abi.h", "fx2d_bench_plugin.hpp"})
     hash.add(file_text(plugin_project() / name));
   return hash.hex();
 }

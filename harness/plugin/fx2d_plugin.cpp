@@ -4,22 +4,21 @@
 // fx2d_bench_plugin_table) and builds it, against any revision of Fx2D, into a plugin that exports only
 // fx2d_bench_plugin_v1 (compiled with FX2D_BENCH_PLUGIN_MODULE).
 //
-// Invariant: no exception leaves a function of the table; create() turns each into its one-line
-// error. Conversions to Fx2D's floats are exactly those the harness always made, so the built-in
+// The table is made from the class Fx2dWorld by the SDK's C++ layer (fx2d_bench_plugin.hpp), which
+// keeps every exception inside; Fx2D's own refusals read "fx2d: ...", any other "fx2d plugin: ...".
+// Conversions to Fx2D's floats are exactly those the harness always made, so the built-in
 // engine's trajectories (and goldens) are the same bit for bit.
 //
 // FX2D_BENCH_INJECT_SLOWDOWN (test plugin only, never the product): after each step, spin for a
 // fraction of that step's own measured time, the fraction read at create() from the environment
 // variable FX2D_BENCH_TEST_SLOWDOWN (e.g. "0.05"), so one test plugin gives every injected cost.
 #include <algorithm>
-#include <cstdio>
-#include <exception>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "fx2d/fx2d.h"
-#include "fx2d_plugin_abi.h"
+#include "fx2d_bench_plugin.hpp"
 
 #ifdef FX2D_BENCH_INJECT_SLOWDOWN
 #include <chrono>
@@ -34,14 +33,6 @@
 #ifndef FX2D_BENCH_WORKERS
 #define FX2D_BENCH_WORKERS 0
 #endif
-
-struct Fx2dBenchInstance {
-  std::unique_ptr<fx2d::FxScene> scene;
-  std::vector<std::shared_ptr<fx2d::FxEntity>> entities;
-#ifdef FX2D_BENCH_INJECT_SLOWDOWN
-  double slowdown_fraction = 0.0;
-#endif
-};
 
 namespace {
 
@@ -104,16 +95,11 @@ fx2d::FxEntityDef make_def(const Fx2dBenchBody& body) {
   return def;
 }
 
-const std::shared_ptr<fx2d::FxEntity>& joint_body(const Fx2dBenchInstance& instance, int32_t index) {
-  if (index < 0 || static_cast<std::size_t>(index) >= instance.entities.size())
-    throw std::invalid_argument("joint body index " + std::to_string(index) + " out of range");
-  return instance.entities[static_cast<std::size_t>(index)];
-}
-
 // A revolute joint's anchor is one world point: body A's local anchor placed at A's start pose.
-std::shared_ptr<fx2d::FxConstraint> make_joint(const Fx2dBenchInstance& instance, const Fx2dBenchJoint& joint) {
-  const auto& a = joint_body(instance, joint.body_a);
-  const auto& b = joint_body(instance, joint.body_b);
+std::shared_ptr<fx2d::FxConstraint> make_joint(const std::vector<std::shared_ptr<fx2d::FxEntity>>& entities,
+                                               const Fx2dBenchJoint& joint) {
+  const auto& a = fx2d_bench::joint_body(entities, joint.body_a);
+  const auto& b = fx2d_bench::joint_body(entities, joint.body_b);
   const fx2d::FxVec2f anchor_a = to_fx(joint.local_anchor_a);
   if (joint.kind == FX2D_BENCH_DISTANCE_JOINT) {
     return std::make_shared<fx2d::FxDistanceJoint>(a, b, anchor_a, to_fx(joint.local_anchor_b),
@@ -169,8 +155,7 @@ double max_linear_speed(const Settings& settings) {
   }
 }
 
-std::unique_ptr<Fx2dBenchInstance> build(const Fx2dBenchScene& scene) {
-  if (scene.setting_count != knob_count) throw std::invalid_argument("expected one setting per knob");
+fx2d::FxSceneSettings scene_settings(const Fx2dBenchScene& scene) {
   const double* knob = scene.settings;
   fx2d::FxSceneSettings settings;
   settings.gravity = to_fx(scene.gravity);
@@ -181,16 +166,7 @@ std::unique_ptr<Fx2dBenchInstance> build(const Fx2dBenchScene& scene) {
   settings.relax_passes = static_cast<int>(knob[relax_passes]);
   settings.max_push_speed = static_cast<float>(knob[max_push_speed]);
   set_workers(settings, static_cast<int>(knob[workers]));
-  auto instance = std::make_unique<Fx2dBenchInstance>();
-  instance->scene = std::make_unique<fx2d::FxScene>(settings);
-  for (int32_t i = 0; i < scene.body_count; ++i)
-    instance->entities.push_back(instance->scene->create_entity(make_def(scene.bodies[i])));
-  for (int32_t i = 0; i < scene.joint_count; ++i) instance->scene->add_constraint(make_joint(*instance, scene.joints[i]));
-  return instance;
-}
-
-void copy_error(const std::string& message, char* error, size_t error_size) {
-  if (error != nullptr && error_size > 0) std::snprintf(error, error_size, "%s", message.c_str());
+  return settings;
 }
 
 #ifdef FX2D_BENCH_INJECT_SLOWDOWN
@@ -200,109 +176,97 @@ double slowdown_from_environment() {
 }
 
 // Busy-waits, so the cost is CPU time like the step's own, for `fraction` of the step just taken.
-void step_with_injected_cost(Fx2dBenchInstance& instance) {
+void step_with_injected_cost(fx2d::FxScene& scene, double fraction) {
   using clock = std::chrono::steady_clock;
   const clock::time_point start = clock::now();
-  instance.scene->step();
+  scene.step();
   const clock::time_point end = clock::now();
-  const auto until = end + std::chrono::duration_cast<clock::duration>((end - start) * instance.slowdown_fraction);
+  const auto until = end + std::chrono::duration_cast<clock::duration>((end - start) * fraction);
   while (clock::now() < until) {
   }
 }
 #endif
 
-// --- the table --------------------------------------------------------------------------------
+class Fx2dWorld {
+ public:
+  explicit Fx2dWorld(const Fx2dBenchScene& scene) try : scene_(scene_settings(scene)) {
+    for (int32_t i = 0; i < scene.body_count; ++i) entities_.push_back(scene_.create_entity(make_def(scene.bodies[i])));
+    for (int32_t i = 0; i < scene.joint_count; ++i) scene_.add_constraint(make_joint(entities_, scene.joints[i]));
+  } catch (const fx2d::FxInvalidArgument& failure) {
+    throw fx2d_bench::Refusal(std::string("fx2d: ") + failure.what());
+  }
+
+  void step() {
+#ifdef FX2D_BENCH_INJECT_SLOWDOWN
+    step_with_injected_cost(scene_, slowdown_fraction_);
+#else
+    scene_.step();
+#endif
+  }
+
+  static int32_t phase_count() { return fx2d::fx_stage_count; }
+
+  static const char* phase_name(int32_t phase) {
+    static const auto names = [] {
+      std::vector<std::string> all;
+      for (int i = 0; i < fx2d::fx_stage_count; ++i) all.emplace_back(fx2d::stage_name(static_cast<fx2d::FxStage>(i)));
+      return all;
+    }();
+    return phase >= 0 && phase < fx2d::fx_stage_count ? names[static_cast<std::size_t>(phase)].c_str() : "";
+  }
+
+  void read_phases(double* ms, int32_t count) const {
+    const fx2d::FxProfile& profile = scene_.profile();
+    for (int32_t i = 0; i < std::min(count, phase_count()); ++i) ms[i] = profile.stage_ms[static_cast<std::size_t>(i)];
+  }
+
+  int32_t contact_count() const { return scene_.contact_count(); }
+
+  void read_state(Fx2dBenchBodyState* out, int32_t count) const {
+    const auto bodies = std::min(static_cast<std::size_t>(std::max(count, 0)), entities_.size());
+    for (std::size_t i = 0; i < bodies; ++i) {
+      const fx2d::FxEntity& e = *entities_[i];
+      out[i].position = {e.precise_x(), e.precise_y()};
+      out[i].angle = e.angle();
+      out[i].linear_velocity = {e.linear_velocity().x, e.linear_velocity().y};
+      out[i].angular_velocity = e.angular_velocity();
+    }
+  }
+
+ private:
+  fx2d::FxScene scene_;
+  std::vector<std::shared_ptr<fx2d::FxEntity>> entities_;
+#ifdef FX2D_BENCH_INJECT_SLOWDOWN
+  double slowdown_fraction_ = slowdown_from_environment();
+#endif
+};
 
 const char* library_version() {
   static const std::string version(fx2d::fx_version());
   return version.c_str();
 }
 
-const char* build_description() { return FX2D_BENCH_PLUGIN_DESCRIPTION; }
-
-Fx2dBenchInstance* create(const Fx2dBenchScene* scene, char* error, size_t error_size) {
-  try {
-    std::unique_ptr<Fx2dBenchInstance> instance = build(*scene);
-#ifdef FX2D_BENCH_INJECT_SLOWDOWN
-    instance->slowdown_fraction = slowdown_from_environment();
-#endif
-    return instance.release();
-  } catch (const fx2d::FxInvalidArgument& failure) {
-    copy_error(std::string("fx2d: ") + failure.what(), error, error_size);
-  } catch (const std::exception& failure) {
-    copy_error(std::string("fx2d plugin: ") + failure.what(), error, error_size);
-  } catch (...) {
-    copy_error("fx2d plugin: unknown error while building the scene", error, error_size);
-  }
-  return nullptr;
-}
-
-void destroy(Fx2dBenchInstance* instance) { delete instance; }
-
-void step(Fx2dBenchInstance* instance) {
-#ifdef FX2D_BENCH_INJECT_SLOWDOWN
-  step_with_injected_cost(*instance);
-#else
-  instance->scene->step();
-#endif
-}
-
-int32_t phase_count() { return fx2d::fx_stage_count; }
-
-const char* phase_name(int32_t phase) {
-  static const auto names = [] {
-    std::vector<std::string> all;
-    for (int i = 0; i < fx2d::fx_stage_count; ++i) all.emplace_back(fx2d::stage_name(static_cast<fx2d::FxStage>(i)));
-    return all;
-  }();
-  return phase >= 0 && phase < fx2d::fx_stage_count ? names[static_cast<std::size_t>(phase)].c_str() : "";
-}
-
-void read_phases(const Fx2dBenchInstance* instance, double* ms, int32_t count) {
-  const fx2d::FxProfile& profile = instance->scene->profile();
-  for (int32_t i = 0; i < std::min(count, phase_count()); ++i) ms[i] = profile.stage_ms[static_cast<std::size_t>(i)];
-}
-
-int32_t contact_count(const Fx2dBenchInstance* instance) { return instance->scene->contact_count(); }
-
-void read_state(const Fx2dBenchInstance* instance, Fx2dBenchBodyState* out, int32_t count) {
-  const auto bodies = std::min(static_cast<std::size_t>(std::max(count, 0)), instance->entities.size());
-  for (std::size_t i = 0; i < bodies; ++i) {
-    const fx2d::FxEntity& e = *instance->entities[i];
-    out[i].position = {e.precise_x(), e.precise_y()};
-    out[i].angle = e.angle();
-    out[i].linear_velocity = {e.linear_velocity().x, e.linear_velocity().y};
-    out[i].angular_velocity = e.angular_velocity();
-  }
-}
-
-const Fx2dBenchPlugin plugin_table = {
-    FX2D_BENCH_PLUGIN_ABI_VERSION,
-    "fx2d",
-    &library_version,
-    &build_description,
-    knobs,
-    knob_count,
-    {FX2D_BENCH_BIT(FX2D_BENCH_CIRCLE) | FX2D_BENCH_BIT(FX2D_BENCH_BOX) | FX2D_BENCH_BIT(FX2D_BENCH_POLYGON),
-     FX2D_BENCH_BIT(FX2D_BENCH_DISTANCE_JOINT) | FX2D_BENCH_BIT(FX2D_BENCH_REVOLUTE_JOINT), 1,
-     has_bullets<fx2d::FxEntityDef> ? 1 : 0, 0, max_linear_speed(engine_defaults)},
-    &create,
-    &destroy,
-    &step,
-    &phase_count,
-    &phase_name,
-    &read_phases,
-    &contact_count,
-    &read_state,
+const fx2d_bench::EngineDescription fx2d_engine{
+    .name = "fx2d",
+    .library_version = &library_version,
+    .build_description = [] { return FX2D_BENCH_PLUGIN_DESCRIPTION; },
+    .knobs = knobs,
+    .capabilities = {FX2D_BENCH_BIT(FX2D_BENCH_CIRCLE) | FX2D_BENCH_BIT(FX2D_BENCH_BOX) |
+                         FX2D_BENCH_BIT(FX2D_BENCH_POLYGON),
+                     FX2D_BENCH_BIT(FX2D_BENCH_DISTANCE_JOINT) | FX2D_BENCH_BIT(FX2D_BENCH_REVOLUTE_JOINT), 1,
+                     has_bullets<fx2d::FxEntityDef> ? 1 : 0, 0, max_linear_speed(engine_defaults)},
 };
 
 }  // namespace
 
-extern "C" const Fx2dBenchPlugin* fx2d_bench_plugin_table(void) { return &plugin_table; }
+extern "C" const Fx2dBenchPlugin* fx2d_bench_plugin_table(void) {
+  static const Fx2dBenchPlugin table = fx2d_bench::plugin_table<Fx2dWorld, fx2d_engine>();
+  return &table;
+}
 
 #ifdef FX2D_BENCH_PLUGIN_MODULE
 // The plugin's only exported symbol; everything else in the library is hidden.
 extern "C" FX2D_BENCH_PLUGIN_EXPORT const Fx2dBenchPlugin* fx2d_bench_plugin_v1(void) {
-  return &plugin_table;
+  return fx2d_bench_plugin_table();
 }
 #endif

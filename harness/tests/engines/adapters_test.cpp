@@ -320,6 +320,19 @@ TEST(OdeAdapter, RejectsPolygonsItCannotCollideFaceToFace) {
   EXPECT_THROW(make_ode_engine()->build(scene_of({ground(), triangle({0.0, 0.2})})), std::runtime_error);
 }
 
+// The SDK layer (fx2d_bench_plugin.hpp) turns the adapter's exception into the table's one-line
+// error, and the half-built world is freed (the sanitizer build reports a leak otherwise).
+TEST(ChipmunkAdapter, ReportsABuildFailureAsItsOneLineError) {
+  SceneSpec scene = scene_of({ground(), box_at({0.0, 1.0})});
+  scene.joints.push_back({JointKind::revolute, 1, 999, {}, {}, -1.0});
+  try {
+    find_engine("chipmunk")->make()->build(scene);
+    FAIL() << "built a joint to a body that does not exist";
+  } catch (const std::runtime_error& error) {
+    EXPECT_STREQ(error.what(), "chipmunk plugin: joint body index 999 out of range");
+  }
+}
+
 TEST(EngineRegistry, ListsFx2dBox2dOdeChipmunkInOrderWithTheirVersions) {
   const auto engines = engine_registry();
   ASSERT_EQ(engines.size(), 4u);

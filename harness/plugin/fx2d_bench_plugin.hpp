@@ -1,0 +1,155 @@
+// The C++ side of the plugin SDK: turns one engine class into the C table of fx2d_plugin_abi.h, so
+// that an adapter holds only what is its engine's own (harness/plugin/README.md walks through it).
+//
+// An adapter writes a class World:
+//   explicit World(const Fx2dBenchScene& scene);  // builds the scene; throws to refuse it
+//   void step();                                  // one step of the scene's dt
+//   int32_t contact_count() const;                // touching body pairs after the last step
+//   void read_state(Fx2dBenchBodyState* out, int32_t count) const;  // scene order
+// and, if the engine times its own phases,
+//   static int32_t phase_count(); static const char* phase_name(int32_t phase);
+//   void read_phases(double* ms, int32_t count) const;
+// then describes the engine and exports the table in one line:
+//   constexpr fx2d_bench::EngineDescription my_engine{.name = "my_engine", .knobs = knobs, ...};
+//   FX2D_BENCH_EXPORT_PLUGIN(World, my_engine)
+//
+// Invariant: no exception leaves the table. create() checks the settings' count, builds a World
+// and turns any exception into the one-line error "<name> plugin: <what>"; an exception of type
+// fx2d_bench::Refusal gives its message alone, for an engine that names itself. Each World is
+// handed out as the opaque Fx2dBenchInstance* it was cast to, and cast back only to World.
+#ifndef FX2D_BENCH_PLUGIN_HPP
+#define FX2D_BENCH_PLUGIN_HPP
+
+#include <concepts>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "fx2d_plugin_abi.h"
+
+namespace fx2d_bench {
+
+// An exception whose message is the whole error line, without the "<name> plugin: " prefix.
+class Refusal : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+inline const char* no_text() { return ""; }
+
+// Everything of the table that is not a function of a built scene.
+struct EngineDescription {
+  const char* name = "";  // lower case, digits, '_': also the scene's /solver/<name> block
+  const char* (*library_version)() = &no_text;
+  const char* (*build_description)() = &no_text;  // which build this is; may stay empty
+  std::span<const Fx2dBenchKnob> knobs;
+  Fx2dBenchCapabilities capabilities{};
+};
+
+// The engine body a joint names by its index into the scene's bodies, refused when out of range.
+template <class Body>
+const Body& joint_body(const std::vector<Body>& bodies, int32_t index) {
+  if (index < 0 || static_cast<std::size_t>(index) >= bodies.size())
+    throw std::invalid_argument("joint body index " + std::to_string(index) + " out of range");
+  return bodies[static_cast<std::size_t>(index)];
+}
+
+namespace detail {
+
+template <class World>
+World& world(Fx2dBenchInstance* instance) {
+  return *reinterpret_cast<World*>(instance);
+}
+
+template <class World>
+const World& world(const Fx2dBenchInstance* instance) {
+  return *reinterpret_cast<const World*>(instance);
+}
+
+inline void copy_error(const std::string& message, char* error, size_t error_size) {
+  if (error != nullptr && error_size > 0) std::snprintf(error, error_size, "%s", message.c_str());
+}
+
+template <class World>
+constexpr bool has_phases = requires(const World& world, double* ms) {
+  { World::phase_count() } -> std::same_as<int32_t>;
+  { World::phase_name(0) } -> std::same_as<const char*>;
+  world.read_phases(ms, 0);
+};
+
+// One table's functions; `engine` is the description the table was made from.
+template <class World, const EngineDescription& engine>
+struct Functions {
+  static Fx2dBenchInstance* create(const Fx2dBenchScene* scene, char* error, size_t error_size) {
+    const std::string prefix = std::string(engine.name) + " plugin: ";
+    try {
+      if (static_cast<std::size_t>(scene->setting_count) != engine.knobs.size())
+        throw std::invalid_argument("expected one setting per knob");
+      return reinterpret_cast<Fx2dBenchInstance*>(new World(*scene));
+    } catch (const Refusal& refusal) {
+      copy_error(refusal.what(), error, error_size);
+    } catch (const std::exception& failure) {
+      copy_error(prefix + failure.what(), error, error_size);
+    } catch (...) {
+      copy_error(prefix + "unknown error while building the scene", error, error_size);
+    }
+    return nullptr;
+  }
+  static void destroy(Fx2dBenchInstance* instance) { delete &world<World>(instance); }
+  static void step(Fx2dBenchInstance* instance) { world<World>(instance).step(); }
+  static int32_t contact_count(const Fx2dBenchInstance* instance) { return world<World>(instance).contact_count(); }
+  static void read_state(const Fx2dBenchInstance* instance, Fx2dBenchBodyState* out, int32_t count) {
+    world<World>(instance).read_state(out, count);
+  }
+  static int32_t phase_count() {
+    if constexpr (has_phases<World>) return World::phase_count();
+    return 0;
+  }
+  static const char* phase_name(int32_t phase) {
+    if constexpr (has_phases<World>) return World::phase_name(phase);
+    return "";
+  }
+  static void read_phases(const Fx2dBenchInstance* instance, double* ms, int32_t count) {
+    if constexpr (has_phases<World>) world<World>(instance).read_phases(ms, count);
+  }
+};
+
+}  // namespace detail
+
+// The C table of World, described by `engine` (a constant of static storage, which the table's
+// create() reads for the name and the knob count).
+template <class World, const EngineDescription& engine>
+constexpr Fx2dBenchPlugin plugin_table() {
+  using F = detail::Functions<World, engine>;
+  return {FX2D_BENCH_PLUGIN_ABI_VERSION,
+          engine.name,
+          engine.library_version,
+          engine.build_description,
+          engine.knobs.data(),
+          static_cast<int32_t>(engine.knobs.size()),
+          engine.capabilities,
+          &F::create,
+          &F::destroy,
+          &F::step,
+          &F::phase_count,
+          &F::phase_name,
+          &F::read_phases,
+          &F::contact_count,
+          &F::read_state};
+}
+
+}  // namespace fx2d_bench
+
+// Defines the plugin's one exported symbol, returning the table of class `World` described by
+// `description` (an fx2d_bench::EngineDescription of static storage).
+#define FX2D_BENCH_EXPORT_PLUGIN(World, description)                                               \
+  extern "C" FX2D_BENCH_PLUGIN_EXPORT const Fx2dBenchPlugin* fx2d_bench_plugin_v1(void) {           \
+    static const Fx2dBenchPlugin table = fx2d_bench::plugin_table<World, description>();          \
+    return &table;                                                                               \
+  }
+
+#endif  // FX2D_BENCH_PLUGIN_HPP
