@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first
 from matplotlib import colors as mcolors, lines, patches, ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
-ENGINE_COLOURS = {"fx2d": "#1f5fbf", "box2d": "#e07b00", "ode": "#2a9d5c"}
+ENGINE_COLOURS = {"fx2d": "#1f5fbf", "box2d": "#e07b00", "ode": "#2a9d5c", "chipmunk": "#8e44ad"}
 _FALLBACK_COLOURS = ["#8e44ad", "#c0392b", "#7f8c8d", "#16a085"]
 # A sequential map per engine for its phases, so a phase bar still reads as that engine's.
 _ENGINE_PHASE_MAPS = {"fx2d": "Blues", "box2d": "Oranges", "ode": "Greens"}

@@ -388,59 +388,14 @@ def provenance_section(files):
 
 # --- the page -------------------------------------------------------------------------------------
 
-STYLE = """
-:root { --ink:#1d2330; --muted:#5b6475; --line:#e2e6ee; --bg:#f6f7fa; --card:#ffffff; --accent:#1f5fbf; }
-* { box-sizing: border-box; }
-body { margin:0; font: 15px/1.5 system-ui, -apple-system, "Segoe UI", "DejaVu Sans", sans-serif;
-       color:var(--ink); background:var(--bg); }
-header { background:#1d2330; color:#fff; padding:22px 36px 18px; }
-header h1 { margin:0 0 4px; font-size:26px; letter-spacing:.2px; }
-header p { margin:2px 0; color:#c8cfdc; font-size:13.5px; }
-header code { color:#fff; }
-nav { position:sticky; top:0; z-index:2; background:#fff; border-bottom:1px solid var(--line);
-      padding:8px 36px; display:flex; flex-wrap:wrap; gap:6px 18px; font-size:14px; }
-nav a { color:var(--accent); text-decoration:none; font-weight:600; }
-main { padding:8px 36px 40px; max-width:1500px; }
-section { background:var(--card); border:1px solid var(--line); border-radius:10px; padding:6px 22px 18px;
-          margin:18px 0; box-shadow:0 1px 2px rgba(20,30,50,.04); }
-h2 { font-size:20px; margin:14px 0 10px; border-bottom:2px solid var(--line); padding-bottom:6px; }
-h3 { font-size:16px; margin:18px 0 8px; }
-figure { margin:10px 0; }
-figure img { max-width:100%; height:auto; border:1px solid var(--line); border-radius:6px; background:#fff; }
-figcaption { color:var(--muted); font-size:13px; margin-top:4px; }
-.grid { display:grid; grid-template-columns:repeat(auto-fit, minmax(560px, 1fr)); gap:12px 20px; }
-.scroll { overflow-x:auto; }
-table { border-collapse:collapse; font-size:13px; margin:8px 0; }
-th, td { padding:5px 9px; border-bottom:1px solid var(--line); text-align:left; vertical-align:top; }
-th { background:#f0f2f7; font-weight:600; white-space:nowrap; position:sticky; top:0; }
-tbody tr:nth-child(even) { background:#fafbfd; }
-table.runs td { white-space:nowrap; }
-table.provenance td { min-width:80px; }
-table.provenance td code { white-space:normal; word-break:break-all; display:block; min-width:240px; }
-.num { font-variant-numeric: tabular-nums; font-weight:600; }
-.range { color:var(--muted); font-size:12px; }
-tr.group td { background:#e9edf5; font-size:12.5px; color:var(--ink); white-space:normal; padding-top:8px; }
-tr.group code { font-size:11.5px; color:var(--muted); }
-.chip { display:inline-block; padding:0 8px; border:1px solid; border-radius:10px; font-weight:600; font-size:12.5px; }
-.note { color:var(--muted); font-size:13.5px; }
-.warn { color:#b03a2e; font-weight:600; }
-.good { color:#1e7b47; font-weight:600; }
-.verdict { font-weight:700; }
-.verdict.slower { color:#c0392b; } .verdict.faster { color:#1e7b47; }
-.verdict.inconclusive { color:#a07800; } .verdict.no-change { color:#5b6475; }
-details { margin:8px 0; } summary { cursor:pointer; color:var(--accent); font-weight:600; }
-code { font-family: "DejaVu Sans Mono", monospace; font-size:12.5px; }
-"""
+HERE = os.path.dirname(os.path.abspath(__file__))
 
-IMAGE_CHECK = """
-window.addEventListener("load", function () {
-  var images = Array.prototype.slice.call(document.images);
-  var broken = images.filter(function (image) { return !(image.complete && image.naturalWidth > 0); });
-  document.body.dataset.imagesTotal = String(images.length);
-  document.body.dataset.imagesLoaded = String(images.length - broken.length);
-  document.body.dataset.imagesBroken = broken.map(function (image) { return image.getAttribute("src"); }).join(" ");
-});
-"""
+
+def asset(name):
+    """A file beside this script (the page's style and its image check), inlined into the page."""
+    with open(os.path.join(HERE, name), encoding="utf-8") as text:
+        return text.read()
+
 
 
 def page(files, compare_paths, bodies):
@@ -449,19 +404,19 @@ def page(files, compare_paths, bodies):
     generated = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     nav = "".join(f'<a href="#{key}">{title}</a>' for key, title in SECTIONS)
     sections = "".join(f'<section id="{key}"><h2>{title}</h2>{bodies[key]}</section>' for key, title in SECTIONS)
-    legend = " ".join(chip(engine) for engine in ("fx2d", "box2d", "ode"))
+    legend = " ".join(chip(engine) for engine in ("fx2d", "box2d", "ode", "chipmunk"))
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <title>fx2d-bench report</title>
-<style>{STYLE}</style>
+<style>{asset("report.css")}</style>
 </head><body>
 <header><h1>fx2d-bench report</h1>
-<p>Fx2D against Box2D and ODE: speed, accuracy and stability. Generated {generated} from {inputs}.</p>
+<p>Fx2D against Box2D, ODE and Chipmunk2D: speed, accuracy and stability. Generated {generated} from {inputs}.</p>
 <p>Engines: {legend}</p></header>
 <nav>{nav}</nav>
 <main>{sections}</main>
-<script>{IMAGE_CHECK}</script>
+<script>{asset("report_check.js")}</script>
 </body></html>
 """
 
