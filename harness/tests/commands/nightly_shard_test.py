@@ -93,7 +93,7 @@ def refusals(source, parts, collected, work):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--bench", required=True, type=Path)
-    parser.add_argument("--source", type=Path, default=Path(__file__).resolve().parents[2])
+    parser.add_argument("--source", type=Path, default=Path(__file__).resolve().parents[3])
     parser.add_argument("--work", type=Path, help="where the nights go (default: a temporary directory)")
     options = parser.parse_args()
     work = options.work or Path(tempfile.mkdtemp(prefix="fx2d_nightly_shards_"))
