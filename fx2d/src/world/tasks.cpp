@@ -79,7 +79,10 @@ void TaskPool::run_items(std::uint32_t generation, const Job& job) {
     if (!next_claim_.compare_exchange_weak(claim, claim + 1, std::memory_order_relaxed)) continue;
     job.task(item, item + 1, job.context);
     // Release: the waiting thread reads what the item wrote once it sees the count reach zero.
-    if (unfinished_.fetch_sub(1, std::memory_order_acq_rel) == 1) unfinished_.notify_all();
+    if (unfinished_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+      const std::lock_guard lock(mutex_);
+      job_done_.notify_all();
+    }
     claim = next_claim_.load(std::memory_order_relaxed);
   }
 }
@@ -91,7 +94,8 @@ void TaskPool::wait_until_done() {
     if (poll < polls_before_blocking) {
       std::this_thread::yield();
     } else {
-      unfinished_.wait(unfinished, std::memory_order_acquire);
+      std::unique_lock lock(mutex_);
+      job_done_.wait(lock, [&] { return unfinished_.load(std::memory_order_acquire) == 0; });
     }
   }
 }

@@ -50,6 +50,9 @@ class TaskPool {
 
   std::mutex mutex_;
   std::condition_variable job_posted_;
+  // Signalled, under mutex_, when the last item of a job finishes. Not std::atomic::wait: without a
+  // futex (MinGW) libstdc++ 12 can lose that wake-up, and a step waited forever under Wine.
+  std::condition_variable job_done_;
   Job job_;                 // guarded by mutex_
   bool stopping_ = false;   // guarded by mutex_
   std::atomic<std::uint32_t> generation_{0};
