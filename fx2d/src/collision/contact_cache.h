@@ -15,12 +15,24 @@
 
 namespace fx2d::detail {
 
+// Where a pair stood at its last full collision, so that its manifold can be reused while the pair
+// has barely moved since (narrow_phase.cpp): B's placement and the normal in A's frame, and each
+// point's two surface points in its own body's frame.
+struct ManifoldFrame {
+  FxTransform b_in_a;
+  FxVec2f normal_in_a;
+  FxVec2f on_a[2];
+  FxVec2f on_b[2];
+  bool valid = false;
+};
+
 struct CachedContact {
   std::uint32_t body_a = 0;
   std::uint32_t body_b = 0;
   int next_edge[2] = {-1, -1};
   int prev_edge[2] = {-1, -1};
   Manifold manifold;
+  ManifoldFrame frame;
   float normal_impulse[2] = {0.0f, 0.0f};
   float tangent_impulse[2] = {0.0f, 0.0f};
   // Material resolved once per pair.
