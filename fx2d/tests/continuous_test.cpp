@@ -2,6 +2,7 @@
 // fast dynamic bodies, at any speed up to the scene's max_linear_speed, wherever they start.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <memory>
@@ -66,9 +67,18 @@ INSTANTIATE_TEST_SUITE_P(Speeds, FarStart, ::testing::Values(200.0f, 400.0f));
 TEST(ContinuousCollision, SpinningThinPlankDoesNotPassAThinWall) {
   FxScene scene(weightless());
   add_wall(scene);
-  const auto plank = add_moving(scene, FxShape::box(1.0f, 0.01f), {-30.0f, 0.3f}, {300.0f, 0.0f}, 150.0f);
-  expect_stays_left_of_wall(scene, *plank, 1.0f);
-  EXPECT_GT(plank->aabb().upper.x, -wall_half_thickness - 0.05f) << "stopped short of the wall";
+  const float speed = 300.0f;
+  const auto plank = add_moving(scene, FxShape::box(1.0f, 0.01f), {-30.0f, 0.3f}, {speed, 0.0f}, 150.0f);
+  float closest = -30.0f;
+  for (int i = 0; i < 60; ++i) {
+    scene.step();
+    ASSERT_LT(plank->aabb().upper.x, wall_half_thickness) << "through the wall at step " << i;
+    closest = std::max(closest, plank->aabb().upper.x);
+  }
+  EXPECT_GT(closest, -wall_half_thickness - 0.05f) << "stopped short of the wall";
+  // Without restitution it does not bounce back: one relaxation pass (the default schedule) leaves
+  // it 0.75 m/s of the 300 it hit with, four passes 0.001 m/s.
+  EXPECT_LT(length(plank->linear_velocity()), 0.005f * speed);
 }
 
 TEST(ContinuousCollision, SmallFastBoxLandsOnAThinFloor) {

@@ -55,8 +55,8 @@ struct JointSpec {
 };
 
 struct Fx2dSettings {
-  int substeps = 14;
-  int velocity_passes = 4;
+  int substeps = 12;
+  int velocity_passes = 2;
   bool sleeping = true;
   // Unset: the engine's own default. Not written into the resolved scene when unset, so a scene
   // that leaves them out keeps the hash it had before these keys existed.
@@ -65,7 +65,7 @@ struct Fx2dSettings {
   std::optional<int> workers;            // threads a step may use; the results are the same for any
   // What Fx2D takes when a scene leaves relax_passes out (scenes/README.md); fx2d_canonical_test
   // checks that giving it explicitly reproduces the unset run bit for bit.
-  static constexpr int engine_relax_passes = 4;
+  static constexpr int engine_relax_passes = 1;
 };
 
 struct Box2dSettings {

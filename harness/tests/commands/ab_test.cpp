@@ -108,7 +108,7 @@ TEST_F(AbTest, PrebuiltPluginsGiveAFileThatCompareJudgesTheSameWay) {
   EXPECT_EQ(file.runs[1].engine, "fx2d@B");
   EXPECT_NE(file.runs[0].engine_version.find("a.so"), std::string::npos) << file.runs[0].engine_version;
   EXPECT_NE(file.runs[1].engine_version.find("b.so"), std::string::npos) << file.runs[1].engine_version;
-  EXPECT_EQ(file.runs[0].engine_settings, "sleeping=true substeps=14 velocity_passes=4");  // the scene's fx2d block
+  EXPECT_EQ(file.runs[0].engine_settings, "sleeping=true substeps=12 velocity_passes=2");  // the scene's fx2d block
 
   const Ending compare = run_bench({"compare", out, "--json"}, directory_);
   EXPECT_EQ(compare.exit_code, ab.exit_code) << compare.err;
@@ -190,10 +190,10 @@ TEST(AbRounds, TheFewestRoundsAcceptedAreTheFewestTheSignTestCanDecideOn) {
 // A time budget may stop the rounds before they can decide: the output says so.
 TEST_F(AbTest, RoundsCutShortByTheTimeBudgetAreSaidToBeTooFewToDecide) {
   const Ending ab = run_bench({"ab", "--a", copy_of(FX2D_BENCH_PLUGIN, "a.so"), "--b", copy_of(FX2D_BENCH_PLUGIN, "b.so"),
-                               "pile", "--bodies", "30", "--steps", "10", "--rounds", "6", "--time-budget", "0.001"},
+                               "pile", "--bodies", "300", "--steps", "50", "--rounds", "6", "--time-budget", "0.001"},
                               directory_);
   EXPECT_EQ(ab.exit_code, 3) << ab.err;  // inconclusive: fewer than 3 rounds
-  EXPECT_NE(ab.err.find("fx2d-bench: pile 30: --time-budget allowed "), std::string::npos) << ab.err;
+  EXPECT_NE(ab.err.find("fx2d-bench: pile 300: --time-budget allowed "), std::string::npos) << ab.err;
   EXPECT_NE(ab.err.find(" rounds: the sign test over fewer than 6 cannot reach p < 0.05, so no slowdown however large "
                         "can be judged\n"),
             std::string::npos)

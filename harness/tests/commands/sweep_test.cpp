@@ -53,13 +53,13 @@ TEST(SweepCommand, TwoPointGridGetsTheDefaultAddedAndConsistentFronts) {
   const auto json = nlohmann::json::parse(outcome.out);
   EXPECT_EQ(json["schema"], "fx2d-bench.sweep/1");
 
-  // substeps 2 and 4 at 1 pass, then the scene's own 14 x 4, which the grid lacks.
+  // substeps 2 and 4 at 1 pass, then the scene's own 12 x 2, which the grid lacks.
   const auto& points = json["points"];
   ASSERT_EQ(points.size(), 3u);
   EXPECT_EQ(points[0]["settings"]["substeps"], 2);
   EXPECT_EQ(points[1]["settings"]["substeps"], 4);
-  EXPECT_EQ(points[2]["settings"]["substeps"], 14);
-  EXPECT_EQ(points[2]["settings"]["velocity_passes"], 4);
+  EXPECT_EQ(points[2]["settings"]["substeps"], 12);
+  EXPECT_EQ(points[2]["settings"]["velocity_passes"], 2);
   for (std::size_t i = 0; i < points.size(); ++i) {
     EXPECT_EQ(points[i]["default"], i == 2);
     EXPECT_EQ(points[i]["primary_metric"], "displacement");
@@ -120,7 +120,7 @@ TEST(SweepCommand, SweepsRelaxationPassesWhenAskedAndKeepsTheSceneItselfAsTheDef
              file);
   std::fclose(file);
   const fs::path out = directory / "sweep.h5";
-  const std::string grid = "sweep " + scene.string() + " --engine fx2d --fx2d-substeps 14 --fx2d-passes 4 --repeats 1 --json";
+  const std::string grid = "sweep " + scene.string() + " --engine fx2d --fx2d-substeps 12 --fx2d-passes 2 --repeats 1 --json";
   const Outcome relaxed = run_bench(grid + " --fx2d-relax 1,4 --out " + out.string());
   const Outcome plain = run_bench(grid);
   ASSERT_EQ(relaxed.exit_code, 0) << relaxed.out;
@@ -130,13 +130,14 @@ TEST(SweepCommand, SweepsRelaxationPassesWhenAskedAndKeepsTheSceneItselfAsTheDef
   ASSERT_EQ(points.size(), 2u);
   EXPECT_EQ(points[0]["settings"]["relax_passes"], 1);
   EXPECT_EQ(points[1]["settings"]["relax_passes"], 4);
-  EXPECT_FALSE(points[0]["default"].get<bool>());
-  EXPECT_TRUE(points[1]["default"].get<bool>());
+  // The engine's own single relaxation pass is the default point, and the scene without the key is it.
+  EXPECT_TRUE(points[0]["default"].get<bool>());
+  EXPECT_FALSE(points[1]["default"].get<bool>());
   const auto plain_default = nlohmann::json::parse(plain.out)["points"][0];
   EXPECT_FALSE(plain_default["settings"].contains("relax_passes"));
-  EXPECT_EQ(points[1]["scene_hash"], plain_default["scene_hash"]);
-  EXPECT_NE(points[0]["scene_hash"], plain_default["scene_hash"]);
-  EXPECT_EQ(points[1]["primary_error"], plain_default["primary_error"]);
+  EXPECT_EQ(points[0]["scene_hash"], plain_default["scene_hash"]);
+  EXPECT_NE(points[1]["scene_hash"], plain_default["scene_hash"]);
+  EXPECT_EQ(points[0]["primary_error"], plain_default["primary_error"]);
   EXPECT_NE(points[0]["primary_error"].get<double>(), points[1]["primary_error"].get<double>());
 
   const hid_t h5 = H5Fopen(out.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);

@@ -68,6 +68,8 @@ struct GoldenCase {
   // file is written by determinism_test from `fx2d-bench run` at each canonical scene's own size;
   // hashing the same state here checks it in builds that have no fx2d-bench.
   const char* state_hash_entry;
+  // Substeps, velocity passes and relaxation passes when not the scene's own (0: the scene's).
+  int substeps = 0, velocity_passes = 0, relax_passes = 0;
   friend void PrintTo(const GoldenCase& c, std::ostream* os) { *os << c.name; }
 };
 
@@ -91,6 +93,11 @@ TEST_P(Golden, FinalStateMatchesTableToTheBit) {
   const GoldenCase& c = GetParam();
   SceneOverrides overrides;
   if (c.bodies > 0) overrides.bodies = c.bodies;
+  if (c.substeps > 0) {
+    overrides.sets.emplace_back("/solver/fx2d/substeps", std::to_string(c.substeps));
+    overrides.sets.emplace_back("/solver/fx2d/velocity_passes", std::to_string(c.velocity_passes));
+    overrides.sets.emplace_back("/solver/fx2d/relax_passes", std::to_string(c.relax_passes));
+  }
   const std::string scene_path = std::string(FX2D_SOURCE_DIR) + "/" + c.scene;
   const SceneSpec scene = load_scene_file(scene_path, overrides);
   const std::vector<BodyState> state = final_state(scene, scene.steps);
@@ -127,7 +134,12 @@ INSTANTIATE_TEST_SUITE_P(Scenes, Golden,
                                            GoldenCase{"settling_boxes_200", "scenes/settling_boxes.json", 200,
                                                       "settling_boxes"},
                                            GoldenCase{"joints_and_bounce", "scenes/tests/joints_and_bounce.json", 0,
-                                                      nullptr}),
+                                                      nullptr},
+                                           // The schedule the seeds chose, still selectable (issue 19).
+                                           GoldenCase{"settling_boxes_200_14x4r4", "scenes/settling_boxes.json", 200,
+                                                      nullptr, 14, 4, 4},
+                                           GoldenCase{"joints_and_bounce_14x4r4", "scenes/tests/joints_and_bounce.json",
+                                                      0, nullptr, 14, 4, 4}),
                          [](const ::testing::TestParamInfo<GoldenCase>& param) { return std::string(param.param.name); });
 
 // Sizes past the thresholds of every parallel loop (1024 pairs or bodies), and steps enough for

@@ -188,8 +188,8 @@ TEST(CanonicalScenes, StateTheCommonSettingsAndEachEnginesSolverSettings) {
       EXPECT_EQ(body.material.dynamic_friction, 0.6);
       EXPECT_EQ(body.material.restitution, 0.0);
     }
-    EXPECT_EQ(scene.fx2d.substeps, 14);
-    EXPECT_EQ(scene.fx2d.velocity_passes, 4);
+    EXPECT_EQ(scene.fx2d.substeps, 12);
+    EXPECT_EQ(scene.fx2d.velocity_passes, 2);
     EXPECT_TRUE(scene.fx2d.sleeping);
     EXPECT_EQ(scene.box2d.velocity_iterations, 8);
     EXPECT_EQ(scene.box2d.position_iterations, 3);
@@ -382,8 +382,8 @@ TEST(Defaults, MinimalSceneResolvesEveryTopLevelDefault) {
     },
     "fx2d": {
       "sleeping": true,
-      "substeps": 14,
-      "velocity_passes": 4
+      "substeps": 12,
+      "velocity_passes": 2
     },
     "ode": {
       "auto_disable": true,
