@@ -174,6 +174,8 @@ void settle_pair(int id, PairUpdate update, ContactCache& contacts, Bodies& bodi
 
 void update_contacts(const StepContext& step, NarrowPhaseScratch& scratch, ContactCache& contacts, Bodies& bodies,
                      const AabbTree& tree) {
+  // Every pair would be skipped, and only a collided pair wakes a body.
+  if (bodies.awake_count == 0) return;
   const auto slot_count = static_cast<std::uint32_t>(contacts.slots.size());
   std::vector<PairUpdate>& updates = scratch.pair_updates;
   const bool parallel = step.tasks.runs_in_parallel(slot_count, min_parallel_pairs);

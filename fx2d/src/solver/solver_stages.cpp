@@ -92,6 +92,14 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   std::vector<FxBodyState>& states = solver.states;
   std::vector<std::uint8_t>& movable = solver.movable;
   integration.clear(step.body_count);
+  // A world asleep gathers no state and builds no constraint (a touching constraint always has an
+  // awake body): the stages after this one read only the empty lists of moving bodies and
+  // constraints.
+  if (bodies.awake_count == 0) {
+    integration.finish();
+    solver.contact_solver.constraints.clear();
+    return;
+  }
   const float h = step.substep_dt;
   states.assign(records.size() + 1, FxBodyState{});
   movable.resize(records.size() + 1);
@@ -109,13 +117,7 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
                             1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping));
   }
   integration.finish();
-  // Without an awake body there is no constraint (a static body is never awake): a world asleep
-  // skips the walk over every cached contact.
-  if (integration.moving_bodies().empty()) {
-    solver.contact_solver.constraints.clear();
-  } else {
-    solver.contact_solver.prepare(contacts, bodies);
-  }
+  solver.contact_solver.prepare(contacts, bodies);
 }
 
 void colour_and_pack(const StepContext& step, SolverData& solver) {

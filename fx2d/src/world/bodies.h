@@ -61,6 +61,9 @@ struct Snapshot {
 struct Bodies {
   std::vector<BodyRecord> records;
   std::vector<BodySim> sims;
+  // How many records are awake (a static body never is): at zero, a step skips every per-pair and
+  // per-body loop but the broad phase's. Kept where `awake` changes: creation, removal, sleep.cpp.
+  std::uint32_t awake_count = 0;
 
   std::uint32_t count() const { return static_cast<std::uint32_t>(records.size()); }
 

@@ -76,6 +76,7 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
   record.bullet = def.bullet;
   record.inner_extent = inner_extent(def.shape);
   record.awake = def.type != FxBodyType::static_body;
+  if (record.awake) ++bodies_.awake_count;
   record.linear_damping = def.linear_damping;
   record.angular_damping = def.angular_damping;
 
@@ -144,6 +145,7 @@ void World::remove_entity(std::uint32_t index) {
   broad_phase_.jointed_pairs_dirty = true;
   broad_phase_.tree.destroy_proxy(records[index].proxy);
 
+  if (records[index].awake) --bodies_.awake_count;
   auto snapshot = std::make_unique<FxEntity::Snapshot>();
   snapshot->record = std::move(records[index]);
   snapshot->sim = bodies_.sims[index];

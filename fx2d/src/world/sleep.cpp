@@ -92,6 +92,7 @@ void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies
     if (island_min_sleep_time[root] < settings.time_to_sleep) continue;
     BodyRecord& record = records[i];
     record.awake = false;
+    --bodies.awake_count;
     record.sleep_island = root;
     bodies.sims[i].linear_velocity = {};
     bodies.sims[i].angular_velocity = 0.0f;
@@ -105,6 +106,7 @@ void wake_body(Bodies& bodies, std::uint32_t index) {
   for (BodyRecord& record : bodies.records) {
     if (record.awake || record.sleep_island != island) continue;
     record.awake = true;
+    ++bodies.awake_count;
     record.sleep_time = 0.0f;
     record.sleep_island = -1;
   }
