@@ -62,7 +62,7 @@ TEST_P(FarStart, SmallCircleStopsAtAThinWall) {
   EXPECT_NEAR(circle->position().x, -wall_half_thickness - radius, 0.02f);
 }
 
-INSTANTIATE_TEST_SUITE_P(Speeds, FarStart, ::testing::Values(200.0f, 400.0f));
+INSTANTIATE_TEST_SUITE_P(Speeds, FarStart, ::testing::Values(200.0f, 400.0f, FxSceneSettings{}.max_linear_speed));
 
 TEST(ContinuousCollision, SpinningThinPlankDoesNotPassAThinWall) {
   FxScene scene(weightless());
@@ -89,7 +89,7 @@ TEST(ContinuousCollision, SmallFastBoxLandsOnAThinFloor) {
   floor.shape = FxShape::box(5.0f, floor_top);
   scene.create_entity(floor);
   const float half = 0.05f;
-  const auto box = add_moving(scene, FxShape::box(half, half), {0.2f, 40.0f}, {0.0f, -400.0f});
+  const auto box = add_moving(scene, FxShape::box(half, half), {0.2f, 40.0f}, {0.0f, -scene.settings().max_linear_speed});
   for (int i = 0; i < 120; ++i) {
     scene.step();
     ASSERT_GT(box->aabb().lower.y, -floor_top) << "through the floor at step " << i;

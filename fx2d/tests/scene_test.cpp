@@ -194,7 +194,7 @@ TEST(Validation, EntityDefinitionsNameTheBadField) {
   def.position = {2.0e7f, 0.0f};
   expect_field(def, "position");
   def = {};
-  def.linear_velocity = {1000.0f, 0.0f};
+  def.linear_velocity = {1.5f * scene.settings().max_linear_speed, 0.0f};
   expect_field(def, "linear_velocity");
   def = {};
   def.angular_velocity = 1.0e20f;
@@ -226,7 +226,7 @@ TEST(Robustness, StepNeverProducesNaNFromExtremeButValidInput) {
   thin.shape = FxShape::box(2.0f, 0.001f);
   thin.position = {0.0f, 1.0f};
   auto sliver = scene.create_entity(thin);
-  sliver->set_linear_velocity({0.0f, -1000.0f});  // clamped to max_linear_speed
+  sliver->set_linear_velocity({0.0f, -2.0f * scene.settings().max_linear_speed});  // clamped to max_linear_speed
   EXPECT_FLOAT_EQ(length(sliver->linear_velocity()), scene.settings().max_linear_speed);
   auto tiny = add_circle(scene, {0.0f, 0.5f}, 0.001f);
   auto dense = add_box(scene, {0.2f, 3.0f}, 0.5f, FxMaterial{1.0e6f});

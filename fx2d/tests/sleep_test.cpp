@@ -75,6 +75,25 @@ TEST(Sleep, RemovingASupportWakesWhatRestedOnIt) {
   EXPECT_NEAR(boxes[1]->position().y, 0.5f, 0.01f);  // it fell onto the ground
 }
 
+// A box that slides from rest more slowly than linear_sleep_speed / time_to_sleep (0.1 m/s^2) is
+// slower than the sleep speed for the whole of time_to_sleep; speed alone put it to sleep at 0.5 s,
+// 9 mm down a slope it slides 14 cm down in 2 s (stability's friction_ramp, at 66.5 degrees). It
+// speeds up all the while, so it is not resting.
+TEST(Sleep, ABoxThatSpeedsUpSlowlyKeepsSliding) {
+  const float slide_acceleration = 0.07f;  // m/s^2, between the 0.05 that may sleep and the old 0.1
+  FxSceneSettings settings;
+  const float friction = FxMaterial{}.dynamic_friction;  // box and ground alike
+  settings.gravity = {friction * 10.0f + slide_acceleration, -10.0f};
+  FxScene scene(settings);
+  add_ground(scene);
+  auto box = add_box(scene, {0.0f, 0.5f});
+  const float seconds = 2.0f;
+  run(scene, seconds);
+  EXPECT_TRUE(box->is_awake());
+  const float coulomb_slide = 0.5f * slide_acceleration * seconds * seconds;  // 14 cm
+  EXPECT_NEAR(box->position().x, coulomb_slide, 0.1f * coulomb_slide);
+}
+
 TEST(Sleep, DisabledSleepingKeepsEveryBodyAwake) {
   FxSceneSettings settings;
   settings.sleeping = false;

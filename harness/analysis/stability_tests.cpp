@@ -276,6 +276,15 @@ SearchResult find_boundary(const SearchSpec& spec, const std::function<Verdict(d
   return result;
 }
 
+SearchResult find_engine_boundary(const StabilityTest& test, SearchSpec& search, const EngineCapabilities& capabilities,
+                                  const std::function<Verdict(double)>& evaluate) {
+  const bool capped = test.engine_limit && test.engine_limit(capabilities) < search.limit;
+  if (capped) search.limit = test.engine_limit(capabilities);
+  SearchResult result = find_boundary(search, evaluate);
+  if (capped && result.outcome == Outcome::holds_to_limit) result.outcome = Outcome::engine_limit;
+  return result;
+}
+
 Verdict stays_in_place(const SceneSpec& scene, const Trajectory& trajectory, double max_move, double max_turn) {
   check_shape(scene, trajectory);
   const auto& start = trajectory.states.front();

@@ -158,6 +158,12 @@ Trajectory simulate(const SceneSpec& scene, const EngineInfo& engine, int sample
 // An engine and a test of the suite: one search.
 using EngineTest = std::pair<const EngineInfo*, const StabilityTest*>;
 
+// find_boundary of `test` over `search` on an engine with `capabilities`: when the test's
+// engine_limit is below search.limit the search stops there (search.limit is lowered to it, as
+// run), and holding there is Outcome::engine_limit.
+SearchResult find_engine_boundary(const StabilityTest& test, SearchSpec& search, const EngineCapabilities& capabilities,
+                                  const std::function<Verdict(double)>& evaluate);
+
 // One engine's search of one test, as run: what the table, the JSON and the file report.
 struct TestResult {
   const EngineInfo* engine = nullptr;

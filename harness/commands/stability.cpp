@@ -87,10 +87,7 @@ TestResult search_test(const StabilityOptions& options, const EngineInfo& engine
       return Verdict{false, engine.name + " cannot build " + *missing, "cannot_build", std::nullopt};
     return test.judge(scene, simulate(scene, engine, test.sample_every, test.settled_failure));
   };
-  const bool capped = test.engine_limit && test.engine_limit(engine.capabilities) < outcome.search.limit;
-  if (capped) outcome.search.limit = test.engine_limit(engine.capabilities);
-  outcome.result = find_boundary(outcome.search, evaluate);
-  if (capped && outcome.result.outcome == Outcome::holds_to_limit) outcome.result.outcome = Outcome::engine_limit;
+  outcome.result = find_engine_boundary(test, outcome.search, engine.capabilities, evaluate);
   return outcome;
 }
 

@@ -60,7 +60,7 @@ struct EngineCapabilities {
 };
 
 // What `scene` needs that `capabilities` lack, as a phrase that completes "cannot build ..."
-// ("polygons", "distance joints", "bullets", "more than 65536 bodies", "bodies faster than 400 m/s");
+// ("polygons", "distance joints", "bullets", "more than 65536 bodies", "bodies faster than 1000 m/s");
 // nullopt when it can build it all.
 std::optional<std::string> missing_capability(const EngineCapabilities& capabilities, const SceneSpec& scene);
 

@@ -44,6 +44,31 @@ FxVec2f clamped_acceleration(FxVec2f acceleration, float bound) {
   return {std::clamp(acceleration.x, -bound, bound), std::clamp(acceleration.y, -bound, bound)};
 }
 
+// A body that speeds up by this share of linear_sleep_speed while it rests is sliding, not resting.
+constexpr float rest_speed_gain_share = 0.5f;
+
+// Counts how long a body has rested: slower than the sleep speeds, and not speeding up. Speed alone
+// would put to sleep a box that slides from rest at less than linear_sleep_speed / time_to_sleep
+// (0.1 m/s^2): it falls asleep before it reaches the sleep speed, and stability's friction_ramp
+// found a mu = 2.28 box stopped on a 66.5 degree slope that Coulomb friction slides at 0.0996
+// m/s^2. So a body that has gained half the sleep speed since it began to rest (accelerating at
+// 0.05 m/s^2 or more over time_to_sleep) starts its rest anew. Settling bodies only slow down,
+// and a resting one's speed jitters far below that, so neither sleeps later.
+void update_rest(const FxSceneSettings& settings, const BodySim& sim, BodyRecord& record) {
+  const float speed_squared = length_squared(sim.linear_velocity);
+  const bool slow = speed_squared < settings.linear_sleep_speed * settings.linear_sleep_speed &&
+                    sim.angular_velocity * sim.angular_velocity < settings.angular_sleep_speed * settings.angular_sleep_speed;
+  if (!slow || !record.can_sleep) {
+    record.sleep_time = 0.0f;
+    return;
+  }
+  if (record.sleep_time == 0.0f) record.rest_start_speed = std::sqrt(speed_squared);
+  record.sleep_time += settings.dt;
+  if (record.sleep_time < settings.time_to_sleep) return;
+  const float sliding_speed = record.rest_start_speed + rest_speed_gain_share * settings.linear_sleep_speed;
+  if (speed_squared > sliding_speed * sliding_speed) record.sleep_time = 0.0f;
+}
+
 // Writes one body's pose and velocity back with carries, and refreshes its sleep time and box.
 // Touches that body's records alone, so bodies are finalized on several threads at once.
 void finalize_body(const FxSceneSettings& settings, const FxBodyState& state, BodySim& sim, BodyRecord& record,
@@ -61,9 +86,7 @@ void finalize_body(const FxSceneSettings& settings, const FxBodyState& state, Bo
   clamp_velocity(settings, sim);
   sim.force = {};
 
-  const bool resting = length_squared(sim.linear_velocity) < settings.linear_sleep_speed * settings.linear_sleep_speed &&
-                       sim.angular_velocity * sim.angular_velocity < settings.angular_sleep_speed * settings.angular_sleep_speed;
-  record.sleep_time = (resting && record.can_sleep) ? record.sleep_time + settings.dt : 0.0f;
+  update_rest(settings, sim, record);
 
   record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
   broad.refresh(record, sim.aabb);

@@ -272,6 +272,32 @@ const StabilityTest& suite_test(const std::string& name) {
   throw std::runtime_error("no stability test " + name);
 }
 
+// The speed tests stop at the fastest body an engine builds: holding there is "engine limit at X",
+// failing below it is a boundary as on any engine, and an engine faster than the test's limit
+// holds to the test's limit.
+TEST(StabilitySuite, ASpeedTestStopsAtTheEnginesFastestBody) {
+  const StabilityTest& test = suite_test("thin_wall");
+  ASSERT_EQ(test.search.limit, 1000.0);
+  auto search = [&](double engine_speed, double tunnels_above) {
+    EngineCapabilities capabilities;
+    capabilities.max_linear_speed = engine_speed;
+    SearchSpec spec = test.search;
+    SearchResult result = find_engine_boundary(test, spec, capabilities, passes_below(tunnels_above));
+    return std::pair{result, spec.limit};
+  };
+  const auto [capped, capped_limit] = search(400.0, 1e9);
+  EXPECT_EQ(capped.outcome, Outcome::engine_limit);
+  EXPECT_EQ(capped_limit, 400.0);
+  EXPECT_EQ(*capped.last_pass, 400.0);
+  const auto [tunnels, tunnels_limit] = search(400.0, 300.0);
+  EXPECT_EQ(tunnels.outcome, Outcome::boundary);
+  EXPECT_LE(*tunnels.last_pass, 300.0);
+  const auto [holds, holds_limit] = search(1000.0, 1e9);
+  EXPECT_EQ(holds.outcome, Outcome::holds_to_limit);
+  EXPECT_EQ(holds_limit, 1000.0);
+  EXPECT_EQ(*holds.last_pass, 1000.0);
+}
+
 TEST(StabilitySuite, Fx2dThinWallSearchFindsATunnellingSpeedAboveTheDiscreteBound) {
   const StabilityTest& test = suite_test("thin_wall");
   const EngineInfo* fx2d = find_engine("fx2d");
