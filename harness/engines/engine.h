@@ -86,6 +86,8 @@ struct EngineInfo {
   EngineCapabilities capabilities;
   // Empty for an engine whose settings the scene format itself defines (box2d, ode).
   std::vector<Knob> knobs;
+  // The plugin file the engine was loaded from, absolute; empty for one linked into the binary.
+  std::string plugin_path;
 };
 
 // The value of each of `knobs` in `scene`, in their order: the resolved scene's
