@@ -92,7 +92,8 @@ struct EngineInfo {
 
 // The value of each of `knobs` in `scene`, in their order: the resolved scene's
 // /solver/<solver>/<knob>, or the knob's default where the scene leaves it out. Throws InputError
-// naming the scene and the JSON pointer of a key that is no knob or a value out of its range.
+// naming the scene's file (or, for a scene of no file, the scene) and the JSON pointer of a key
+// that is no knob or a value out of its range.
 std::vector<double> knob_values(const std::string& solver, std::span<const Knob> knobs,
                                 const SceneSpec& scene);
 // The engine's settings in `scene` as a JSON object: the resolved /solver/<solver> block, with
