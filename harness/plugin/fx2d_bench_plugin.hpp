@@ -116,7 +116,7 @@ inline void copy_error(const std::string& message, char* error, size_t error_siz
   if (error != nullptr && error_size > 0) std::snprintf(error, error_size, "%s", message.c_str());
 }
 
-// Refuses a body or joint of a kind outside `engine`'s capabilities (the harness checks them before
+// Refuses a body or joint of a kind outside `capabilities` (the harness checks them before
 // creating, so this meets only a plugin driven by hand), so that an adapter needs no case for it.
 inline void check_kinds(const Fx2dBenchScene& scene, const Fx2dBenchCapabilities& capabilities) {
   const auto within = [](int32_t kind, uint32_t kinds) {
@@ -155,7 +155,7 @@ struct Functions {
         throw std::invalid_argument("expected one setting per knob");
       check_kinds(*scene, engine.capabilities);
       return reinterpret_cast<Fx2dBenchInstance*>(
-          new Instance<World>{World(*scene), static_cast<std::size_t>(scene->body_count)});
+          new Instance<World>{World(*scene), static_cast<std::size_t>(std::max(scene->body_count, 0))});
     } catch (const Refusal& refusal) {
       copy_error(refusal.what(), error, error_size);
     } catch (const std::exception& failure) {
