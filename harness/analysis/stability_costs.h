@@ -12,4 +12,8 @@ namespace fxbench {
 // missing from the table (a new test, a plugin engine) costs 1 s.
 double stability_cost(const std::string& test, const std::string& engine);
 
+// Whether the table holds a measurement of the pair (shard_test checks that it does for every
+// test of the suite on every engine of the registry).
+bool stability_cost_measured(const std::string& test, const std::string& engine);
+
 }  // namespace fxbench

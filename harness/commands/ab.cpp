@@ -60,6 +60,17 @@ EngineInfo variant_engine(const PluginBuild& build, Variant variant) {
   return engine;
 }
 
+// Where a build's engine comes from, for the lines naming A and B: its plugin file, or this binary.
+std::string origin_of(const PluginBuild& build) {
+  return build.path.empty() ? "linked into this fx2d-bench" : "plugin " + build.path;
+}
+
+// The build as an engine name another fx2d-bench process (the count under callgrind) loads: the very
+// plugin file timed, labelled `label`, or the built-in engine of this binary's name.
+std::string engine_name_of(const PluginBuild& build, const std::string& label) {
+  return build.path.empty() ? build.plugin->name() : "plugin:" + build.path + "|" + label;
+}
+
 SceneRecord scene_record(const SceneSpec& scene) {
   const char* metric = scene.primary_metric == PrimaryMetric::displacement ? "displacement" : "penetration";
   return {scene.name, scene.hash, scene.resolved_json, scene.source_path, metric};
@@ -102,8 +113,8 @@ ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
                      "; ab judges two builds of one engine (compare two engines with run and compare)");
   const EngineInfo engine_a = variant_engine(build_a, Variant::a);
   const EngineInfo engine_b = variant_engine(build_b, Variant::b);
-  std::cerr << "fx2d-bench: A = " << engine_a.version << " (plugin " << build_a.path << ")\nfx2d-bench: B = "
-            << engine_b.version << " (plugin " << build_b.path << ")\n";
+  std::cerr << "fx2d-bench: A = " << engine_a.version << " (" << origin_of(build_a) << ")\nfx2d-bench: B = "
+            << engine_b.version << " (" << origin_of(build_b) << ")\n";
 
   const ScopedInterruptHandler interrupts;  // interrupt.h: Ctrl-C saves what was measured
   ResultSet results;
@@ -126,7 +137,7 @@ ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
     // The count loads the very plugin files just timed, never another build of the same revision.
     for (auto [run, build] : {std::pair{&runs.a, &build_a}, std::pair{&runs.b, &build_b}}) {
       if (!counter || results.partial) continue;
-      run->instruction_count = counter->count(scene, "plugin:" + build->path + "|" + run->engine);
+      run->instruction_count = counter->count(scene, engine_name_of(*build, run->engine));
       results.partial = !run->instruction_count;  // interrupt.h: the SIGINT stopped the counting child
     }
     results.scenes.push_back(scene_record(scene));
@@ -169,7 +180,8 @@ void register_ab(CLI::App& app, const std::string& command_line, int& exit_statu
   CLI::App* ab = app.add_subcommand(
       "ab", "Time two builds of one engine back to back in one process and judge B against A");
   const std::string build_help =
-      "a plugin file, a build directory holding libfx2d_bench_plugin.so, `worktree`, or a git revision";
+      "a plugin file, a build directory holding libfx2d_bench_plugin.so, `worktree`, a git revision, or `built-in` "
+      "(this binary's own Fx2D)";
   ab->add_option("--a", options->a, "Build A (the reference): " + build_help)->required();
   ab->add_option("--b", options->b, "Build B (judged against A): " + build_help)->required();
   ab->add_option("--a-cmake", options->a_cmake, "Extra CMake arguments for building A, e.g. \"-DFX2D_NATIVE=ON\"");

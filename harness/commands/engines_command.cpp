@@ -1,5 +1,6 @@
 // `fx2d-bench engines`: the engines the harness can run, in registry order, with their library
-// versions and the solver settings each reads from a scene.
+// versions and the solver settings each reads from a scene (and, in JSON, the file each engine
+// loaded as a plugin came from).
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -14,8 +15,10 @@ namespace {
 void list_engines(bool json) {
   if (json) {
     nlohmann::ordered_json engines = nlohmann::ordered_json::array();
-    for (const EngineInfo& engine : engine_registry())
+    for (const EngineInfo& engine : engine_registry()) {
       engines.push_back({{"name", engine.name}, {"version", engine.version}, {"settings", engine.settings}});
+      if (!engine.plugin_path.empty()) engines.back()["plugin"] = engine.plugin_path;
+    }
     std::cout << nlohmann::ordered_json{{"schema", "fx2d-bench.engines/1"}, {"engines", engines}}.dump(2) << '\n';
     return;
   }

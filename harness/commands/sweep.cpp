@@ -47,7 +47,7 @@ struct SweepOptions {
       {"box2d", "velocity_iterations", "--box2d-velocity", 1, {1, 2, 4, 8, 16, 32}, {}},
       {"box2d", "position_iterations", "--box2d-position", 0, {1, 3, 8}, {}},
       {"ode", "iterations", "--ode-iterations", 1, {5, 10, 20, 40, 80}, {}},
-      {"fx2d", "relax_passes", "--fx2d-relax", 1, {}, Fx2dSettings::engine_relax_passes},
+      {"fx2d", "relax_passes", "--fx2d-relax", 1, {}, {}},  // unset: the knob's default
       {"chipmunk", "iterations", "--chipmunk-iterations", 1, {2, 5, 10, 20, 40}, {}},  // unset: the knob's
                                                                                        // default
   };

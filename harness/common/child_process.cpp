@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <filesystem>
 #include <utility>
 
 extern char** environ;
@@ -44,5 +45,7 @@ ChildEnding run_child(const std::vector<std::string>& argv, const ChildStreams& 
   if (child < 0) return {.spawn_error = spawn_error, .exit_status = -1, .signal = 0};
   return wait_for_child(child);
 }
+
+std::string own_executable() { return std::filesystem::read_symlink("/proc/self/exe").string(); }
 
 }  // namespace fxbench

@@ -40,4 +40,8 @@ ChildEnding wait_for_child(pid_t child);
 // Both: starts argv and waits for it.
 ChildEnding run_child(const std::vector<std::string>& argv, const ChildStreams& streams);
 
+// The running program's own file, absolute (/proc/self/exe): what a child that runs fx2d-bench
+// again starts, and where the engine plugins an install puts beside it are found from.
+std::string own_executable();
+
 }  // namespace fxbench

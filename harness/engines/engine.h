@@ -86,11 +86,14 @@ struct EngineInfo {
   EngineCapabilities capabilities;
   // Empty for an engine whose settings the scene format itself defines (box2d, ode).
   std::vector<Knob> knobs;
+  // The plugin file the engine was loaded from, absolute; empty for one linked into the binary.
+  std::string plugin_path;
 };
 
 // The value of each of `knobs` in `scene`, in their order: the resolved scene's
 // /solver/<solver>/<knob>, or the knob's default where the scene leaves it out. Throws InputError
-// naming the scene and the JSON pointer of a key that is no knob or a value out of its range.
+// naming the scene's file (or, for a scene of no file, the scene) and the JSON pointer of a key
+// that is no knob or a value out of its range.
 std::vector<double> knob_values(const std::string& solver, std::span<const Knob> knobs,
                                 const SceneSpec& scene);
 // The engine's settings in `scene` as a JSON object: the resolved /solver/<solver> block, with

@@ -6,17 +6,14 @@
 #include "engines/plugin_engine.h"
 
 namespace fxbench {
-namespace {
 
-const std::shared_ptr<const Plugin>& linked_fx2d() {
+std::shared_ptr<const Plugin> linked_fx2d_plugin() {
   static const std::shared_ptr<const Plugin> linked = Plugin::linked(*fx2d_bench_plugin_table());
   return linked;
 }
 
-}  // namespace
+std::unique_ptr<Engine> make_fx2d_engine() { return make_plugin_engine(linked_fx2d_plugin()); }
 
-std::unique_ptr<Engine> make_fx2d_engine() { return make_plugin_engine(linked_fx2d()); }
-
-EngineInfo fx2d_engine_info() { return plugin_engine_info(linked_fx2d(), "fx2d"); }
+EngineInfo fx2d_engine_info() { return plugin_engine_info(linked_fx2d_plugin(), "fx2d"); }
 
 }  // namespace fxbench

@@ -50,7 +50,8 @@ double checked_value(const Knob& knob, const Json& value, const std::string& whe
 std::vector<double> knob_values(const std::string& solver, std::span<const Knob> knobs,
                                 const SceneSpec& scene) {
   const Json block = solver_block(solver, scene);
-  const std::string pointer = "scene " + scene.name + ": /solver/" + solver + "/";
+  const std::string origin = scene.source_path.empty() ? "scene " + scene.name : scene.source_path;
+  const std::string pointer = origin + ": /solver/" + solver + "/";
   for (const auto& [key, value] : block.items()) {
     if (std::ranges::find(knobs, key, &Knob::name) == knobs.end()) {
       std::string names;

@@ -286,6 +286,7 @@ EngineInfo plugin_engine_info(std::shared_ptr<const Plugin> plugin, std::string 
   info.solver = plugin->name();
   info.capabilities = plugin->capabilities();
   info.knobs = plugin->knobs();
+  info.plugin_path = plugin->path();
   info.make = [plugin = std::move(plugin)] { return make_plugin_engine(plugin); };
   return info;
 }

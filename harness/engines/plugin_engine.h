@@ -53,6 +53,10 @@ class Plugin {
   std::vector<Knob> knobs_;
 };
 
+// Fx2D's table linked into this binary (plugin/fx2d_plugin.cpp): the built-in "fx2d" engine's
+// plugin, which `ab --a built-in` times against a plugin file of the same build.
+std::shared_ptr<const Plugin> linked_fx2d_plugin();
+
 // An engine over `plugin`'s table; reads the scene's /solver/<plugin name> knobs.
 std::unique_ptr<Engine> make_plugin_engine(std::shared_ptr<const Plugin> plugin);
 

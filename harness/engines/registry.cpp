@@ -6,13 +6,30 @@
 // when its name asks for it.
 #include <algorithm>
 #include <deque>
+#include <filesystem>
 #include <mutex>
 #include <vector>
 
+#include "common/child_process.h"
 #include "engines/engines.h"
 #include "engines/plugin_engine.h"
 
 namespace fxbench {
+namespace {
+
+// A plugin this build makes, by file name: in the engine plugin folder at its place relative to
+// the running executable (../lib/fx2d-bench from bin/fx2d-bench under an install prefix, and from
+// harness/fx2d-bench in the build tree), else in the build tree's folder, for the build tree's
+// other programs (its tests) that sit elsewhere.
+std::string built_plugin(const std::string& file) {
+  namespace fs = std::filesystem;
+  const fs::path beside =
+      fs::path(own_executable()).parent_path() / FX2D_BENCH_ENGINE_PLUGINS_FROM_EXECUTABLE / file;
+  return fs::exists(beside) ? beside.lexically_normal().string()
+                            : (fs::path(FX2D_BENCH_ENGINE_PLUGIN_BUILD_DIR) / file).string();
+}
+
+}  // namespace
 
 std::span<const EngineInfo> engine_registry() {
   static const std::vector<EngineInfo> engines = [] {
@@ -24,6 +41,7 @@ std::span<const EngineInfo> engine_registry() {
                    &make_box2d_engine,
                    "box2d",
                    EngineCapabilities{},
+                   {},
                    {}});
     all.push_back(
         {"ode",
@@ -33,9 +51,11 @@ std::span<const EngineInfo> engine_registry() {
          &make_ode_engine,
          "ode",
          ode_capabilities,
+         {},
          {}});
-    // The plugin this build makes beside the binary (engines/chipmunk/).
-    all.push_back(plugin_engine_info(Plugin::load(FX2D_BENCH_CHIPMUNK_PLUGIN), "chipmunk"));
+    // The plugin this build makes (engines/chipmunk/).
+    all.push_back(
+        plugin_engine_info(Plugin::load(built_plugin(FX2D_BENCH_CHIPMUNK_PLUGIN_FILE)), "chipmunk"));
     return all;
   }();
   return engines;

@@ -28,6 +28,7 @@ namespace fs = std::filesystem;
 
 constexpr const char* plugin_file_name = "libfx2d_bench_plugin.so";
 constexpr const char* worktree_word = "worktree";
+constexpr const char* built_in_word = "built-in";
 
 // --- child processes ------------------------------------------------------------------------------
 
@@ -181,7 +182,7 @@ PluginBuild loaded(const std::string& option, const fs::path& path, std::string 
   }
 }
 
-// --- the four kinds of --a/--b ------------------------------------------------------------------
+// --- the kinds of --a/--b that load a file -----------------------------------------------------
 
 PluginBuild prebuilt(const std::string& option, const std::string& spec) {
   fs::path path = spec;
@@ -261,9 +262,12 @@ fs::path current_checkout(const std::string& option, const std::string& spec) {
 
 ResolvedBuild resolve_plugin_build(const std::string& option, const std::string& spec, const std::string& cmake_args) {
   ResolvedBuild build{option, spec, BuildKind::plugin_file, spec, {}, cmake_args};
-  if (spec != worktree_word && fs::exists(spec)) {
+  const bool is_built_in = spec == built_in_word;
+  if (is_built_in || (spec != worktree_word && fs::exists(spec))) {
     if (!split_words(cmake_args).empty())
-      throw InputError(option + "-cmake: applies to a git revision or worktree, not to the prebuilt plugin " + spec);
+      throw InputError(option + "-cmake: applies to a git revision or worktree, not to the " +
+                       (is_built_in ? std::string("built-in engine") : "prebuilt plugin " + spec));
+    if (is_built_in) build.kind = BuildKind::built_in;
     return build;
   }
   const bool is_revision = spec != worktree_word;
@@ -273,14 +277,15 @@ ResolvedBuild resolve_plugin_build(const std::string& option, const std::string&
   const std::optional<std::string> sha =
       output_of({"git", "-C", build.path, "rev-parse", "--verify", "--quiet", spec + "^{commit}"});
   if (!sha || sha->size() < 7)
-    throw InputError(option + " " + spec + ": not a plugin file, a build directory, `worktree`, nor a git revision of " +
-                     build.path);
+    throw InputError(option + " " + spec + ": not a plugin file, a build directory, `worktree`, `built-in`, nor a " +
+                     "git revision of " + build.path);
   build.sha = *sha;
   return build;
 }
 
 PluginBuild prepare_plugin_build(const ResolvedBuild& build) {
   if (build.kind == BuildKind::plugin_file) return prebuilt(build.option, build.spec);
+  if (build.kind == BuildKind::built_in) return {linked_fx2d_plugin(), built_in_word, {}};
   const std::vector<std::string> extra_args = split_words(build.cmake_args);
   std::vector<std::string> all_args = same_flags_arguments();
   all_args.insert(all_args.end(), extra_args.begin(), extra_args.end());

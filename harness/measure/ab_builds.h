@@ -1,6 +1,8 @@
 // What `fx2d-bench ab --a X --b Y` names, turned into a loaded engine plugin: a plugin file, a
 // build directory holding one, the word `worktree` (the checkout of the current directory,
-// uncommitted changes included), or any git revision of the current directory's repository.
+// uncommitted changes included), any git revision of the current directory's repository, or the
+// word `built-in` (this binary's own Fx2D, the plugin table linked into it: against this build's
+// plugin file it measures what calling the same code in a loaded library costs).
 //
 // A revision is extracted (git archive) and built with the plugin project of THIS tree
 // (harness/plugin/CMakeLists.txt, FX2D_ROOT = the extracted tree), in Release with the flags this
@@ -28,11 +30,11 @@ struct PluginBuild {
   // Which build this is, for result files and tables, e.g. "a1b2c3d (HEAD~1) -DFX2D_NATIVE=ON".
   std::string description;
   // The plugin file loaded: what anything else measuring this build (a count under valgrind)
-  // must load, rather than guess from the cache.
+  // must load, rather than guess from the cache. Empty for the built-in engine.
   std::string path;
 };
 
-enum class BuildKind { plugin_file, worktree, revision };
+enum class BuildKind { plugin_file, worktree, revision, built_in };
 
 // `--a`/`--b` checked and resolved, nothing built yet.
 struct ResolvedBuild {

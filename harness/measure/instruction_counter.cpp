@@ -117,8 +117,6 @@ std::uint64_t callgrind_total_instructions(std::istream& output, const std::stri
   return totals ? *totals : *summary;
 }
 
-std::string InstructionCounter::own_executable() { return fs::read_symlink("/proc/self/exe").string(); }
-
 InstructionCounter::InstructionCounter(std::string bench_executable) : bench_executable_(std::move(bench_executable)) {
   if (built_with_address_sanitizer)
     throw InputError("--counter instructions: this fx2d-bench is built with AddressSanitizer, which valgrind "

@@ -22,6 +22,7 @@
 #include <optional>
 #include <string>
 
+#include "common/child_process.h"
 #include "common/results.h"
 #include "scene/scene_spec.h"
 
@@ -57,8 +58,6 @@ class InstructionCounter {
   std::optional<InstructionCount> count(const SceneSpec& scene, const std::string& engine_name) const;
 
   const std::string& valgrind_version() const { return valgrind_version_; }  // e.g. "valgrind-3.19.0"
-
-  static std::string own_executable();
 
  private:
   std::string bench_executable_;

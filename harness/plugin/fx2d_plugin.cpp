@@ -38,29 +38,19 @@ namespace {
 
 fx2d::FxVec2f to_fx(Fx2dBenchVec2 v) { return {static_cast<float>(v.x), static_cast<float>(v.y)}; }
 
+// The SDK's create() lets through only known body types and the shape kinds Fx2D declares.
 fx2d::FxShape make_shape(const Fx2dBenchBody& body) {
-  switch (body.shape) {
-    case FX2D_BENCH_CIRCLE:
-      return fx2d::FxShape::circle(static_cast<float>(body.radius));
-    case FX2D_BENCH_BOX:
-      return fx2d::FxShape::box(static_cast<float>(body.half_extents.x), static_cast<float>(body.half_extents.y));
-    case FX2D_BENCH_POLYGON: {
-      std::vector<fx2d::FxVec2f> points;
-      for (int32_t i = 0; i < body.vertex_count; ++i) points.push_back(to_fx(body.vertices[i]));
-      return fx2d::FxShape::polygon(points);
-    }
-    default:
-      throw std::invalid_argument("unknown shape kind " + std::to_string(body.shape));
-  }
+  if (body.shape == FX2D_BENCH_CIRCLE) return fx2d::FxShape::circle(static_cast<float>(body.radius));
+  if (body.shape == FX2D_BENCH_BOX)
+    return fx2d::FxShape::box(static_cast<float>(body.half_extents.x),
+                              static_cast<float>(body.half_extents.y));
+  return fx2d::FxShape::polygon(fx2d_bench::vertices(body, to_fx));
 }
 
 fx2d::FxBodyType body_type(int32_t type) {
-  switch (type) {
-    case FX2D_BENCH_STATIC_BODY: return fx2d::FxBodyType::static_body;
-    case FX2D_BENCH_KINEMATIC_BODY: return fx2d::FxBodyType::kinematic;
-    case FX2D_BENCH_DYNAMIC_BODY: return fx2d::FxBodyType::dynamic;
-    default: throw std::invalid_argument("unknown body type " + std::to_string(type));
-  }
+  if (type == FX2D_BENCH_STATIC_BODY) return fx2d::FxBodyType::static_body;
+  if (type == FX2D_BENCH_KINEMATIC_BODY) return fx2d::FxBodyType::kinematic;
+  return fx2d::FxBodyType::dynamic;
 }
 
 // ab builds this file around older revisions of Fx2D too, some from before FxEntityDef::bullet;
@@ -222,15 +212,12 @@ class Fx2dWorld {
 
   int32_t contact_count() const { return scene_.contact_count(); }
 
-  void read_state(Fx2dBenchBodyState* out, int32_t count) const {
-    const auto bodies = std::min(static_cast<std::size_t>(std::max(count, 0)), entities_.size());
-    for (std::size_t i = 0; i < bodies; ++i) {
-      const fx2d::FxEntity& e = *entities_[i];
-      out[i].position = {e.precise_x(), e.precise_y()};
-      out[i].angle = e.angle();
-      out[i].linear_velocity = {e.linear_velocity().x, e.linear_velocity().y};
-      out[i].angular_velocity = e.angular_velocity();
-    }
+  Fx2dBenchBodyState body_state(std::size_t index) const {
+    const fx2d::FxEntity& e = *entities_[index];
+    return {{e.precise_x(), e.precise_y()},
+            e.angle(),
+            {e.linear_velocity().x, e.linear_velocity().y},
+            e.angular_velocity()};
   }
 
  private:
@@ -251,10 +238,8 @@ const fx2d_bench::EngineDescription fx2d_engine{
     .library_version = &library_version,
     .build_description = [] { return FX2D_BENCH_PLUGIN_DESCRIPTION; },
     .knobs = knobs,
-    .capabilities = {FX2D_BENCH_BIT(FX2D_BENCH_CIRCLE) | FX2D_BENCH_BIT(FX2D_BENCH_BOX) |
-                         FX2D_BENCH_BIT(FX2D_BENCH_POLYGON),
-                     FX2D_BENCH_BIT(FX2D_BENCH_DISTANCE_JOINT) | FX2D_BENCH_BIT(FX2D_BENCH_REVOLUTE_JOINT), 1,
-                     has_bullets<fx2d::FxEntityDef> ? 1 : 0, 0, max_linear_speed(engine_defaults)},
+    .capabilities = {fx2d_bench::all_shapes, fx2d_bench::all_joints, 1, has_bullets<fx2d::FxEntityDef> ? 1 : 0, 0,
+                     max_linear_speed(engine_defaults)},
 };
 
 }  // namespace

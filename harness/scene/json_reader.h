@@ -165,11 +165,6 @@ class ObjectReader {
     if (!object_.contains(key) || object_[key].is_null()) return std::nullopt;
     return read_number(errors_, object_[key], at(key), range);
   }
-  std::optional<int> optional_integer(std::string_view key, const Range& range) {
-    note(key);
-    if (!object_.contains(key) || object_[key].is_null()) return std::nullopt;
-    return read_integer(errors_, object_[key], at(key), range);
-  }
   Json& required(std::string_view key, const std::string& what) {
     note(key);
     if (!object_.contains(key)) errors_.missing(at(key), what);

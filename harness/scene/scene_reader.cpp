@@ -40,14 +40,19 @@ MaterialSpec read_material(ObjectReader& parent, const MaterialSpec& inherited) 
   return material;
 }
 
-// A plugin engine's block: an object of numbers and true/false under an engine's name, kept as
-// given; the engine checks it against its knobs (engines/engine.h, knob_values) when selected.
-// A name a typo away from one of the format's own blocks is that typo, refused.
-void read_plugin_solvers(ObjectReader& solver, const Json& blocks) {
+// The blocks whose values the format reads itself (Box2dSettings, OdeSettings); every other block,
+// Fx2D's included, holds an engine's knobs.
+const std::vector<std::string> kReadBlocks{"box2d", "ode"};
+
+// An engine's block of knobs (Fx2D's, or a plugin engine's): an object of numbers and true/false
+// under the engine's name, kept as given; the engine checks it against its knobs (engines/engine.h,
+// knob_values) when a command selects it, the one check of its values. A name a typo away from one
+// of the format's own blocks is that typo, refused.
+void read_knob_blocks(ObjectReader& solver, const Json& blocks) {
   const std::vector<std::string> format_blocks(format_solver_blocks.begin(), format_solver_blocks.end());
   for (const auto& [name, block] : blocks.items()) {
-    if (std::ranges::find(format_blocks, name) != format_blocks.end()) continue;
-    if (near_key(name, format_blocks))
+    if (std::ranges::find(kReadBlocks, name) != kReadBlocks.end()) continue;
+    if (std::ranges::find(format_blocks, name) == format_blocks.end() && near_key(name, format_blocks))
       solver.errors().fail(solver.at(name), unknown_key_message(name, format_blocks), true);
     const bool is_engine_name = !name.empty() && std::ranges::all_of(name, [](char c) {
       return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
@@ -63,20 +68,25 @@ void read_plugin_solvers(ObjectReader& solver, const Json& blocks) {
   }
 }
 
+// Three keys of Fx2D's block that the format wrote into every resolved scene before Fx2D declared
+// knobs, still written when left out (at Fx2D's defaults) so that a scene's resolved form names
+// its schedule (scenes/README.md). Their
+// values are checked by Fx2D's knobs, as the block's others are.
+void record_fx2d_defaults(ObjectReader& solver) {
+  ObjectReader fx2d(solver.errors(), solver.slot("fx2d", Json::object()), solver.at("fx2d"));
+  fx2d.slot("substeps", 12);
+  fx2d.slot("velocity_passes", 2);
+  fx2d.slot("sleeping", true);
+}
+
 void read_solver(ObjectReader& scene, SceneSpec& spec) {
   Json& blocks = scene.slot("solver", Json::object());
   ObjectReader solver(scene.errors(), blocks, scene.at("solver"));
   constexpr Range kPasses{1.0, 1000.0};
   constexpr Range kPassesOrNone{0.0, 1000.0};
 
-  ObjectReader fx2d(solver.errors(), solver.slot("fx2d", Json::object()), solver.at("fx2d"));
-  spec.fx2d.substeps = fx2d.integer("substeps", Fx2dSettings{}.substeps, kPasses);
-  spec.fx2d.velocity_passes = fx2d.integer("velocity_passes", Fx2dSettings{}.velocity_passes, kPassesOrNone);
-  spec.fx2d.sleeping = fx2d.boolean("sleeping", Fx2dSettings{}.sleeping);
-  spec.fx2d.relax_passes = fx2d.optional_integer("relax_passes", kPasses);
-  spec.fx2d.max_push_speed = fx2d.optional_number("max_push_speed", kPositive);
-  spec.fx2d.workers = fx2d.optional_integer("workers", Range{1.0, 64.0});
-  fx2d.finish();
+  read_knob_blocks(solver, blocks);
+  record_fx2d_defaults(solver);
 
   ObjectReader box2d(solver.errors(), solver.slot("box2d", Json::object()), solver.at("box2d"));
   spec.box2d.velocity_iterations =
@@ -92,8 +102,6 @@ void read_solver(ObjectReader& scene, SceneSpec& spec) {
   spec.ode.cfm = ode.number("cfm", OdeSettings{}.cfm, kNonNegative);
   spec.ode.auto_disable = ode.boolean("auto_disable", OdeSettings{}.auto_disable);
   ode.finish();
-
-  read_plugin_solvers(solver, blocks);
   solver.finish();
 }
 

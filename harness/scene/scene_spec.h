@@ -7,7 +7,6 @@
 
 #include <array>
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -54,20 +53,6 @@ struct JointSpec {
   double length = -1.0;             // distance joint: rest length; < 0 means "as built"
 };
 
-struct Fx2dSettings {
-  int substeps = 12;
-  int velocity_passes = 2;
-  bool sleeping = true;
-  // Unset: the engine's own default. Not written into the resolved scene when unset, so a scene
-  // that leaves them out keeps the hash it had before these keys existed.
-  std::optional<int> relax_passes;
-  std::optional<double> max_push_speed;  // m/s
-  std::optional<int> workers;            // threads a step may use; the results are the same for any
-  // What Fx2D takes when a scene leaves relax_passes out (scenes/README.md); fx2d_canonical_test
-  // checks that giving it explicitly reproduces the unset run bit for bit.
-  static constexpr int engine_relax_passes = 1;
-};
-
 struct Box2dSettings {
   int velocity_iterations = 8;
   int position_iterations = 3;
@@ -84,8 +69,9 @@ struct OdeSettings {
 // Which accuracy figure a scene is judged by in speed-versus-accuracy charts.
 enum class PrimaryMetric { penetration, displacement };
 
-// The /solver blocks the scene format defines (the three structs above); a scene's any other
-// block holds a plugin engine's knobs, checked by that engine (engines/engine.h).
+// The /solver blocks the scene format defines: Box2D's and ODE's, read into the two structs above,
+// and Fx2D's, whose values are Fx2D's knobs, checked by that engine (engines/engine.h) as a plugin
+// engine's block is; the resolved scene records each of the three as the format resolved it.
 inline constexpr std::array<std::string_view, 3> format_solver_blocks{"fx2d", "box2d", "ode"};
 
 struct SceneSpec {
@@ -102,7 +88,6 @@ struct SceneSpec {
   PrimaryMetric primary_metric = PrimaryMetric::penetration;
   std::vector<BodySpec> bodies;
   std::vector<JointSpec> joints;
-  Fx2dSettings fx2d;
   Box2dSettings box2d;
   OdeSettings ode;
 };

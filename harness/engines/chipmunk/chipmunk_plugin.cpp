@@ -15,8 +15,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <stdexcept>
-#include <string>
 #include <vector>
 
 #include "fx2d_bench_plugin.hpp"
@@ -53,80 +51,46 @@ constexpr Fx2dBenchKnob knobs[knob_count] = {
 
 cpVect to_cp(Fx2dBenchVec2 v) { return cpv(v.x, v.y); }
 
+// The SDK's create() lets through only the body types and shape kinds of the capabilities below.
 cpBody* make_body(const Fx2dBenchBody& spec) {
-  switch (spec.type) {
-    case FX2D_BENCH_STATIC_BODY:
-      return cpBodyNewStatic();
-    case FX2D_BENCH_KINEMATIC_BODY:
-      return cpBodyNewKinematic();
-    case FX2D_BENCH_DYNAMIC_BODY:
-      return cpBodyNew(0.0, 0.0);  // mass and inertia from the shape's density
-    default:
-      throw std::invalid_argument("unknown body type " + std::to_string(spec.type));
-  }
+  if (spec.type == FX2D_BENCH_STATIC_BODY) return cpBodyNewStatic();
+  if (spec.type == FX2D_BENCH_KINEMATIC_BODY) return cpBodyNewKinematic();
+  return cpBodyNew(0.0, 0.0);  // dynamic: mass and inertia from the shape's density
 }
 
 cpShape* make_shape(cpBody* body, const Fx2dBenchBody& spec) {
-  switch (spec.shape) {
-    case FX2D_BENCH_CIRCLE:
-      return cpCircleShapeNew(body, spec.radius, cpvzero);
-    case FX2D_BENCH_BOX:
-      return cpBoxShapeNew(body, 2.0 * spec.half_extents.x, 2.0 * spec.half_extents.y, 0.0);
-    case FX2D_BENCH_POLYGON: {
-      std::vector<cpVect> vertices;
-      for (int32_t i = 0; i < spec.vertex_count; ++i) vertices.push_back(to_cp(spec.vertices[i]));
-      return cpPolyShapeNew(body, spec.vertex_count, vertices.data(), cpTransformIdentity, 0.0);
-    }
-    default:
-      throw std::invalid_argument("unknown shape kind " + std::to_string(spec.shape));
-  }
+  if (spec.shape == FX2D_BENCH_CIRCLE) return cpCircleShapeNew(body, spec.radius, cpvzero);
+  if (spec.shape == FX2D_BENCH_BOX)
+    return cpBoxShapeNew(body, 2.0 * spec.half_extents.x, 2.0 * spec.half_extents.y, 0.0);
+  const std::vector<cpVect> vertices = fx2d_bench::vertices(spec, to_cp);
+  return cpPolyShapeNew(body, spec.vertex_count, vertices.data(), cpTransformIdentity, 0.0);
 }
-
-// What Chipmunk allocated for one scene, freed even when building it failed part way. The space
-// first: freeing it touches none of its children, which are then freed one by one (removing each
-// from the space would cost a linear search per body).
-struct ChipmunkObjects {
-  cpSpace* space = new_space();
-  std::vector<cpBody*> bodies;  // in the scene's order
-  std::vector<cpShape*> shapes;
-  std::vector<cpConstraint*> joints;
-
-  ChipmunkObjects() = default;
-  ChipmunkObjects(const ChipmunkObjects&) = delete;
-  ChipmunkObjects& operator=(const ChipmunkObjects&) = delete;
-  ~ChipmunkObjects() {
-    cpSpaceFree(space);
-    for (cpConstraint* joint : joints) cpConstraintFree(joint);
-    for (cpShape* shape : shapes) cpShapeFree(shape);
-    for (cpBody* body : bodies) cpBodyFree(body);
-  }
-};
 
 class ChipmunkWorld {
  public:
   explicit ChipmunkWorld(const Fx2dBenchScene& scene) : dt_(scene.dt) {
     const double* knob = scene.settings;
-    cpSpaceSetGravity(chipmunk_.space, to_cp(scene.gravity));
-    cpSpaceSetIterations(chipmunk_.space, static_cast<int>(knob[iterations]));
-    cpSpaceSetSleepTimeThreshold(chipmunk_.space, knob[sleeping] != 0.0 ? knob[sleep_time] : INFINITY);
-    cpSpaceSetCollisionSlop(chipmunk_.space, knob[collision_slop]);
+    cpSpaceSetGravity(space_.get(), to_cp(scene.gravity));
+    cpSpaceSetIterations(space_.get(), static_cast<int>(knob[iterations]));
+    cpSpaceSetSleepTimeThreshold(space_.get(), knob[sleeping] != 0.0 ? knob[sleep_time] : INFINITY);
+    cpSpaceSetCollisionSlop(space_.get(), knob[collision_slop]);
     for (int32_t i = 0; i < scene.body_count; ++i) add_body(scene.bodies[i]);
     for (int32_t i = 0; i < scene.joint_count; ++i) {
-      chipmunk_.joints.push_back(make_joint(scene.joints[i]));
-      cpSpaceAddConstraint(chipmunk_.space, chipmunk_.joints.back());
+      joints_.emplace_back(make_joint(scene.joints[i]));
+      cpSpaceAddConstraint(space_.get(), joints_.back().get());
     }
   }
 
-  void step() { cpSpaceStep(chipmunk_.space, dt_); }
+  void step() { cpSpaceStep(space_.get(), dt_); }
 
   // Touching pairs of bodies (one shape per body here), sleeping ones included: each arbiter is
   // seen from both its bodies but counted from one, the static one never being walked.
   int32_t contact_count() const {
     int32_t count = 0;
-    for (cpBody* body : chipmunk_.bodies) {
-      if (cpBodyGetType(body) == CP_BODY_TYPE_STATIC) continue;
+    for (const auto& body : bodies_) {
+      if (cpBodyGetType(body.get()) == CP_BODY_TYPE_STATIC) continue;
       cpBodyEachArbiter(
-          body,
+          body.get(),
           [](cpBody* self, cpArbiter* arbiter, void* data) {
             cpBody* first = nullptr;
             cpBody* other = nullptr;
@@ -139,31 +103,27 @@ class ChipmunkWorld {
     return count;
   }
 
-  void read_state(Fx2dBenchBodyState* out, int32_t count) const {
-    for (std::size_t i = 0; i < chipmunk_.bodies.size() && static_cast<int32_t>(i) < count; ++i) {
-      const cpBody* body = chipmunk_.bodies[i];
-      const cpVect position = cpBodyGetPosition(body);
-      const cpVect velocity = cpBodyGetVelocity(body);
-      out[i] = {{position.x, position.y},
-                cpBodyGetAngle(body),
-                {velocity.x, velocity.y},
-                cpBodyGetAngularVelocity(body)};
-    }
+  Fx2dBenchBodyState body_state(std::size_t index) const {
+    const cpBody* body = bodies_[index].get();
+    const cpVect position = cpBodyGetPosition(body);
+    const cpVect velocity = cpBodyGetVelocity(body);
+    return {{position.x, position.y},
+            cpBodyGetAngle(body),
+            {velocity.x, velocity.y},
+            cpBodyGetAngularVelocity(body)};
   }
 
  private:
   void add_body(const Fx2dBenchBody& spec) {
-    cpBody* body = make_body(spec);
-    chipmunk_.bodies.push_back(body);
+    cpBody* body = bodies_.emplace_back(make_body(spec)).get();
     cpBodySetPosition(body, to_cp(spec.position));
     cpBodySetAngle(body, spec.angle);
-    cpShape* shape = make_shape(body, spec);
-    chipmunk_.shapes.push_back(shape);
+    cpShape* shape = shapes_.emplace_back(make_shape(body, spec)).get();
     if (spec.type == FX2D_BENCH_DYNAMIC_BODY) cpShapeSetDensity(shape, spec.density);
     cpShapeSetFriction(shape, std::sqrt(spec.dynamic_friction));
     cpShapeSetElasticity(shape, spec.restitution);
-    cpSpaceAddBody(chipmunk_.space, body);
-    cpSpaceAddShape(chipmunk_.space, shape);
+    cpSpaceAddBody(space_.get(), body);
+    cpSpaceAddShape(space_.get(), shape);
     if (spec.type != FX2D_BENCH_STATIC_BODY) {
       cpBodySetVelocity(body, to_cp(spec.linear_velocity));
       cpBodySetAngularVelocity(body, spec.angular_velocity);
@@ -171,8 +131,8 @@ class ChipmunkWorld {
   }
 
   cpConstraint* make_joint(const Fx2dBenchJoint& spec) const {
-    cpBody* a = fx2d_bench::joint_body(chipmunk_.bodies, spec.body_a);
-    cpBody* b = fx2d_bench::joint_body(chipmunk_.bodies, spec.body_b);
+    cpBody* a = fx2d_bench::joint_body(bodies_, spec.body_a).get();
+    cpBody* b = fx2d_bench::joint_body(bodies_, spec.body_b).get();
     if (spec.kind == FX2D_BENCH_REVOLUTE_JOINT)
       return cpPivotJointNew(a, b, cpBodyLocalToWorld(a, to_cp(spec.local_anchor_a)));
     cpConstraint* pin = cpPinJointNew(a, b, to_cp(spec.local_anchor_a), to_cp(spec.local_anchor_b));
@@ -180,7 +140,13 @@ class ChipmunkWorld {
     return pin;
   }
 
-  ChipmunkObjects chipmunk_;
+  // What Chipmunk allocated for the scene, freed even when building it failed part way: the space
+  // first (declared last), which touches none of its children, then each child on its own
+  // (removing each from the space would cost a linear search per body).
+  std::vector<fx2d_bench::Owned<cpBody, cpBodyFree>> bodies_;  // in the scene's order
+  std::vector<fx2d_bench::Owned<cpShape, cpShapeFree>> shapes_;
+  std::vector<fx2d_bench::Owned<cpConstraint, cpConstraintFree>> joints_;
+  fx2d_bench::Owned<cpSpace, cpSpaceFree> space_{new_space()};
   double dt_;
 };
 
@@ -188,10 +154,7 @@ constexpr fx2d_bench::EngineDescription chipmunk{
     .name = "chipmunk",
     .library_version = [] { return cpVersionString; },
     .knobs = knobs,
-    .capabilities = {FX2D_BENCH_BIT(FX2D_BENCH_CIRCLE) | FX2D_BENCH_BIT(FX2D_BENCH_BOX) |
-                         FX2D_BENCH_BIT(FX2D_BENCH_POLYGON),
-                     FX2D_BENCH_BIT(FX2D_BENCH_DISTANCE_JOINT) | FX2D_BENCH_BIT(FX2D_BENCH_REVOLUTE_JOINT), 1, 0, 0,
-                     0.0},
+    .capabilities = {fx2d_bench::all_shapes, fx2d_bench::all_joints, 1, 0, 0, 0.0},
 };
 
 }  // namespace

@@ -42,10 +42,9 @@ class MyEngineWorld {
     }
   }
 
-  // 5. Read back poses and velocities, in the scene's order, and how many pairs touch.
-  void read_state(Fx2dBenchBodyState* out, int32_t count) const {
-    for (int32_t i = 0; i < count && static_cast<std::size_t>(i) < bodies_.size(); ++i) out[i] = bodies_[i];
-  }
+  // 5. Read back one body's pose and velocity (the scene's body number `index`), and how many
+  // pairs touch.
+  Fx2dBenchBodyState body_state(std::size_t index) const { return bodies_[index]; }
   int32_t contact_count() const { return 0; }
 
   // Your engine's phase split, if it times its own stages: static phase_count() and

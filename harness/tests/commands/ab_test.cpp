@@ -115,6 +115,24 @@ TEST_F(AbTest, PrebuiltPluginsGiveAFileThatCompareJudgesTheSameWay) {
   EXPECT_EQ(nlohmann::json::parse(compare.out), verdict);
 }
 
+// The built-in engine against this build tree's plugin: the same code, called in the binary or in a
+// loaded library, so the two step the same trajectories (physics "same") and what differs is the
+// cost of the call (harness/README.md measures it).
+TEST_F(AbTest, TheBuiltInEngineAgainstThisBuildsPluginIsTheSamePhysics) {
+  const std::string out = (directory_ / "ab.h5").string();
+  const Ending ab = run_bench({"ab", "--a", "built-in", "--b", FX2D_BENCH_PLUGIN, "stacks", "--bodies", "20", "--steps",
+                               "20", "--rounds", "6", "--out", out, "--json"},
+                              directory_);
+  ASSERT_TRUE(ab.exit_code == 0 || ab.exit_code == 1 || ab.exit_code == 3) << ab.exit_code << ": " << ab.err;
+  EXPECT_NE(ab.err.find("(linked into this fx2d-bench)\n"), std::string::npos) << ab.err;
+  EXPECT_NE(ab.err.find(std::string("(plugin ") + FX2D_BENCH_PLUGIN + ")\n"), std::string::npos) << ab.err;
+  EXPECT_EQ(row_of(nlohmann::json::parse(ab.out), "ms_per_step")["physics"], "same");
+  const ResultSet file = read_results_h5(out);
+  ASSERT_EQ(file.runs.size(), 2u);
+  EXPECT_EQ(file.runs[0].engine, "fx2d@A");
+  EXPECT_NE(file.runs[0].engine_version.find("built-in"), std::string::npos) << file.runs[0].engine_version;
+}
+
 // ci/nightly gates on these counts: they must be of the two plugins ab timed and named, whatever
 // else its cache holds. B spins after each step (the slow test plugin), so its count is larger.
 TEST_F(AbTest, CountsAreOfExactlyThePluginsTimedAndNamed) {
@@ -209,6 +227,8 @@ TEST_F(AbTest, EveryMisuseIsOneLineAndExitCodeTwo) {
       {{"ab", "--a", plugin}, "--b is required"},                                          // missing argument
       {{"ab", "--a", plugin, "--b", plugin, "--json", "--markdown"}, "excludes"},           // conflicting options
       {{"ab", "--a", plugin, "--b", plugin, "--b-cmake", "-DFX2D_NATIVE=ON"}, "--b-cmake: applies to"},
+      {{"ab", "--a", "built-in", "--b", plugin, "--a-cmake", "-DFX2D_NATIVE=ON"},
+       "--a-cmake: applies to a git revision or worktree, not to the built-in engine"},
       {{"ab", "--a", plugin, "--b", plugin, "--rounds", "3"}, "--rounds: expected an integer in [6, 100000]; 3 rounds:"},
       {{"ab", "--a", plugin, "--b", plugin, "--rounds", "many"}, "--rounds: expected an integer in [6, 100000], got many"},
       {{"ab", "--a", plugin, "--b", plugin, "--counter", "cycles"}, "--counter"},

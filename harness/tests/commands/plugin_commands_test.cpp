@@ -172,6 +172,28 @@ TEST_F(PluginCommands, AKeyThatIsNoKnobIsRefusedWithTheKnobsItCouldBe) {
             "iterations, sleeping, sleep_time, collision_slop\n");
 }
 
+// Fx2D's block is checked once, by Fx2D's knobs, as any engine's: one line naming the scene's file,
+// the JSON pointer and what the knob takes, exit code 2, nothing measured.
+TEST_F(PluginCommands, Fx2dsBlockIsCheckedByItsKnobsInOneLineNamingTheFile) {
+  const std::string file = path("t.json");
+  const auto error_of = [&](const std::string& fx2d) {
+    std::ofstream(file) << R"({"schema": "fx2d.scene/1", "bodies": [{"shape": {"circle": 1}}], "solver": {"fx2d": )"
+                        << fx2d << "}}";
+    const Ending ended = bench({"run", file, "--engine", "fx2d"});
+    EXPECT_EQ(ended.exit_code, 2) << fx2d;
+    EXPECT_EQ(ended.out, "") << fx2d;
+    return ended.err;
+  };
+  const std::string start = "fx2d-bench: " + file + ": /solver/fx2d/";
+  EXPECT_EQ(error_of(R"({"sleeping": 1})"), start + "sleeping: expected true or false, got 1\n");
+  EXPECT_EQ(error_of(R"({"relax_passes": 0})"), start + "relax_passes: expected an integer from 1 to 1000, got 0\n");
+  EXPECT_EQ(error_of(R"({"max_push_speed": 0})"),
+            start + "max_push_speed: expected a number from 0.001 to 1e+06, got 0\n");
+  EXPECT_EQ(error_of(R"({"workers": 65})"), start + "workers: expected an integer from 1 to 64, got 65\n");
+  EXPECT_EQ(error_of(R"({"substep": 3})"), start + "substep: not a knob of fx2d; expected one of substeps, "
+                                                  "velocity_passes, sleeping, relax_passes, max_push_speed, workers\n");
+}
+
 TEST_F(PluginCommands, SweepAxisSweepsAPluginsKnobBesideTheScenesOwnValue) {
   const Ending ended = bench_on_small_stacks(
       "sweep", {"--repeats", "1", "--engine", "chipmunk", "--axis", "chipmunk.iterations=3,7", "--json"});

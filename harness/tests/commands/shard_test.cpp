@@ -15,7 +15,10 @@
 #include <vector>
 
 #include "tests/support/bench_process.h"
+#include "analysis/stability_costs.h"
+#include "analysis/stability_tests.h"
 #include "common/errors.h"
+#include "engines/engine.h"
 #include "common/shard.h"
 #include "storage/h5_tables.h"
 #include "storage/results_h5.h"
@@ -33,6 +36,15 @@ fs::path fresh_directory(const std::string& name) {
   fs::remove_all(directory);
   fs::create_directories(directory);
   return directory;
+}
+
+// The stability cost table holds every pair of the suite and the registry's engines: a pair left
+// out costs 1 s, which for a new engine's pyramid (seconds) or its quick tests (hundredths) puts
+// the shards out of balance.
+TEST(StabilityCosts, EveryTestOfTheSuiteOnEveryEngineOfTheRegistryIsMeasured) {
+  for (const StabilityTest& test : stability_suite())
+    for (const EngineInfo& engine : engine_registry())
+      EXPECT_TRUE(stability_cost_measured(test.name, engine.name)) << test.name << " on " << engine.name;
 }
 
 TEST(ShardSpec, ParsesKOfNAndRefusesTheRest) {

@@ -1,9 +1,11 @@
 #!/usr/bin/python3
-"""The plugin SDK from outside: `cmake --install` of this build into a scratch prefix, the template
-(harness/plugin/template) configured against it with find_package(Fx2dBench) and built out of tree,
-then run by fx2d-bench beside Fx2D, the template's knob checked and swept.
+"""fx2d-bench and its plugin SDK as installed: `cmake --install` of this build into a scratch prefix,
+moved elsewhere (so nothing can be found by the path it was installed to), its fx2d-bench loading
+Chipmunk2D's plugin from the moved prefix; the template (harness/plugin/template) configured against
+the moved SDK with find_package(Fx2dBench) and built out of tree, then run by the installed
+fx2d-bench beside Fx2D and Chipmunk2D, the template's knob checked and swept.
 
-Usage: plugin_sdk_test.py CMAKE BUILD_DIR SOURCE_DIR FX2D_BENCH"""
+Usage: plugin_sdk_test.py CMAKE BUILD_DIR SOURCE_DIR"""
 import json
 import subprocess
 import sys
@@ -19,21 +21,27 @@ def run(command, **options):
 
 
 def main():
-    cmake, build, source, bench = sys.argv[1:5]
+    cmake, build, source = sys.argv[1:4]
     with tempfile.TemporaryDirectory() as scratch:
-        prefix = Path(scratch) / "prefix"
+        installed = Path(scratch) / "installed"
+        prefix = Path(scratch) / "moved"
         plugin_build = Path(scratch) / "plugin"
-        run([cmake, "--install", build, "--prefix", prefix])
+        run([cmake, "--install", build, "--prefix", installed])
+        installed.rename(prefix)
         assert (prefix / "include/fx2d_bench/fx2d_plugin_abi.h").is_file(), "the header was not installed"
+        bench = prefix / "bin/fx2d-bench"
+        listing = json.loads(run([bench, "engines", "--json"]).stdout)
+        chipmunk = next(engine for engine in listing["engines"] if engine["name"] == "chipmunk")
+        assert Path(chipmunk["plugin"]).is_relative_to(prefix), chipmunk
         run([cmake, "-S", Path(source) / "harness/plugin/template", "-B", plugin_build,
              "-DCMAKE_BUILD_TYPE=Release", f"-DCMAKE_PREFIX_PATH={prefix}"])
         run([cmake, "--build", plugin_build])
         plugin = plugin_build / "libmy_engine_plugin.so"
         engines = f"fx2d,plugin:{plugin}|mine"
         summary = json.loads(run([bench, "run", "stacks", "--bodies", "10", "--steps", "30", "--repeats", "1",
-                                  "--engine", engines, "--json"]).stdout)
+                                  "--engine", engines + ",chipmunk", "--json"]).stdout)
         runs = {entry["engine"]: entry for entry in summary["runs"]}
-        assert set(runs) == {"fx2d", "mine"}, runs.keys()
+        assert set(runs) == {"fx2d", "mine", "chipmunk"}, runs.keys()
         # The template's bodies fall through each other: its top box ends far below Fx2D's stack.
         assert runs["mine"]["accuracy"]["max_displacement"] > 10 * runs["fx2d"]["accuracy"]["max_displacement"], runs
         refused = subprocess.run([bench, "run", "stacks", "--engine", engines, "--set", "/solver/my_engine/substeps=65"],
@@ -45,7 +53,8 @@ def main():
                                 "--engine", f"plugin:{plugin}|mine", "--axis", "my_engine.substeps=2,4",
                                 "--json"]).stdout)
         assert [point["settings"]["substeps"] for point in sweep["points"]] == [2, 4, 1], sweep["points"]
-    print("plugin SDK: installed, template built out of tree, run, checked and swept")
+    print("installed and moved: fx2d-bench ran Chipmunk2D from the prefix; the SDK's template built out of "
+          "tree, run, checked and swept")
 
 
 if __name__ == "__main__":

@@ -143,6 +143,39 @@ TEST(PluginEngine, ReportsABuildFailureAsItsOneLineError) {
   }
 }
 
+// The SDK's layer (fx2d_bench_plugin.hpp) refuses a body type, shape kind or joint kind outside
+// the engine's capabilities before the adapter's World is built, so an adapter meets no other.
+TEST(PluginSdk, RefusesAKindOutsideTheCapabilitiesBeforeBuilding) {
+  const Fx2dBenchPlugin& table = *fx2d_bench_plugin_table();
+  std::vector<double> settings;
+  for (int32_t i = 0; i < table.knob_count; ++i) settings.push_back(table.knobs[i].default_value);
+  Fx2dBenchBody box{};
+  box.type = FX2D_BENCH_DYNAMIC_BODY;
+  box.shape = FX2D_BENCH_BOX;
+  box.half_extents = {0.5, 0.5};
+  box.density = 1.0;
+  std::vector<Fx2dBenchBody> bodies{box, box};
+  bodies[1].position = {0.0, 2.0};
+  Fx2dBenchJoint joint{FX2D_BENCH_REVOLUTE_JOINT, 0, 1, {}, {}, -1.0};
+  const auto error_of = [&] {
+    const Fx2dBenchScene scene{{0.0, -10.0}, 1.0 / 60.0, bodies.data(), 2, &joint, 1,
+                               settings.data(), table.knob_count};
+    char error[200] = "";
+    Fx2dBenchInstance* built = table.create(&scene, error, sizeof error);
+    if (built != nullptr) table.destroy(built);
+    return std::string(built != nullptr ? "built" : error);
+  };
+  EXPECT_EQ(error_of(), "built");
+  bodies[1].type = 3;
+  EXPECT_EQ(error_of(), "fx2d plugin: body 1: unknown body type 3");
+  bodies[1].type = FX2D_BENCH_STATIC_BODY;
+  bodies[1].shape = 7;
+  EXPECT_EQ(error_of(), "fx2d plugin: body 1: shape kind 7 is not one the engine builds");
+  bodies[1].shape = FX2D_BENCH_CIRCLE;
+  joint.kind = 2;
+  EXPECT_EQ(error_of(), "fx2d plugin: joint 0: joint kind 2 is not one the engine builds");
+}
+
 // A circle at 390 m/s meets a 0.02 m box coming the other way at 100 m/s: marked a bullet in the
 // scene, it stops at the box (the flag crossed the plugin table); unmarked, it passes through.
 TEST(PluginEngine, TheScenesBulletFlagReachesFx2d) {
