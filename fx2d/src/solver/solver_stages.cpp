@@ -75,7 +75,7 @@ void SolverData::reserve(std::size_t bodies) {
   states.reserve(bodies + 1);
   movable.reserve(bodies + 1);
   integration.reserve(bodies);
-  contact_solver.constraints.reserve(4 * bodies);
+  contact_solver.reserve(4 * bodies);
   contact_graph.reserve(4 * bodies, bodies + 1);
   contact_batches.reserve(4 * bodies);
 }
@@ -115,7 +115,7 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   if (integration.moving_bodies().empty()) {
     solver.contact_solver.constraints.clear();
   } else {
-    solver.contact_solver.prepare(contacts, bodies);
+    solver.contact_solver.prepare(contacts, bodies, step.tasks);
   }
 }
 
