@@ -215,15 +215,16 @@ struct LaneVelocities {
 }
 
 // Lanes that share a body (only static or kinematic ones, or the padding body) carry the same
-// unchanged values, so the order of the writes is moot.
+// unchanged values, so the order of the writes is moot; `Shared` leaves those bodies unwritten.
+template <bool Shared>
 [[gnu::always_inline]] inline void scatter_velocities(const ContactBatch& k, FxBodyState* __restrict states,
                                                       const LaneVelocities& v) {
   LaneColumns a_side, b_side;
   from_lanes(v.avx, a_side.c0), from_lanes(v.avy, a_side.c1), from_lanes(v.aw, a_side.c2);
   from_lanes(v.bvx, b_side.c0), from_lanes(v.bvy, b_side.c1), from_lanes(v.bw, b_side.c2);
   a_side.c3 = v.a_flags, b_side.c3 = v.b_flags;
-  scatter_columns<velocity_row>(states, k.body_a, a_side);
-  scatter_columns<velocity_row>(states, k.body_b, b_side);
+  scatter_columns<velocity_row, Shared>(states, k.body_a, a_side);
+  scatter_columns<velocity_row, Shared>(states, k.body_b, b_side);
 }
 
 // Lane `lane` of one batch, on velocities gathered into `v`.
@@ -244,7 +245,7 @@ template <LaneFn LaneSolve>
 // give it two chains to interleave (the sweep alone, timed interleaved with the one-batch loop:
 // 0.80x the time with one-point batches, 0.885x with two-point ones, on a core of its own;
 // 1.00-1.03x when the core's other hardware thread is busy and leaves no idle capacity to fill).
-template <LaneFn LaneSolve, int Count>
+template <LaneFn LaneSolve, int Count, bool Shared>
 [[gnu::always_inline]] inline void run_batched(ContactBatch* __restrict k, FxBodyState* __restrict states,
                                                const ContactSolveParams& p) {
   static_assert(Count == 1 || Count == 2);
@@ -252,15 +253,15 @@ template <LaneFn LaneSolve, int Count>
   LaneVelocities first, second;
   gather_velocities(k[0], states, first);
   if constexpr (Count == 2) gather_velocities(k[1], states, second);
-  // check-vectorized(20): the lane loop below, in all twenty instantiations (warm start, solve
+  // check-vectorized(40): the lane loop below, in all forty instantiations (warm start, solve
   // with and without softness, the push and its take-back; one and two points, one and two
-  // batches), must be vectorised
+  // batches; on one thread or shared), must be vectorised
   for (int lane = 0; lane < lane_count; ++lane) {
     solve_lane_of<LaneSolve>(k[0], first, lane, p);
     if constexpr (Count == 2) solve_lane_of<LaneSolve>(k[1], second, lane, p);
   }
-  scatter_velocities(k[0], states, first);
-  if constexpr (Count == 2) scatter_velocities(k[1], states, second);
+  scatter_velocities<Shared>(k[0], states, first);
+  if constexpr (Count == 2) scatter_velocities<Shared>(k[1], states, second);
 }
 
 // Relative pose of the two bodies of every lane since the step began, gathered into columns.
@@ -307,8 +308,8 @@ template <int Points>
 }
 
 // The batches of one run, in order; two at a time where lanes are independent, with one left over
-// for an odd count.
-template <LaneFn LaneSolve>
+// for an odd count. A serial run (the overflow) is never swept `Shared`.
+template <LaneFn LaneSolve, bool Shared>
 [[gnu::always_inline]] inline void sweep_run(ContactBatch* batches, int count, FxBodyState* states,
                                              const ContactSolveParams& params, bool serial) {
   int i = 0;
@@ -316,13 +317,13 @@ template <LaneFn LaneSolve>
     for (; i < count; ++i) run_serial<LaneSolve>(batches[i], states, params);
     return;
   }
-  for (; i + 2 <= count; i += 2) run_batched<LaneSolve, 2>(batches + i, states, params);
-  if (i < count) run_batched<LaneSolve, 1>(batches + i, states, params);
+  for (; i + 2 <= count; i += 2) run_batched<LaneSolve, 2, Shared>(batches + i, states, params);
+  if (i < count) run_batched<LaneSolve, 1, Shared>(batches + i, states, params);
 }
 
 // The batches of one run that `marked` flags, in order; two at a time where two marked batches
 // follow each other. Lanes of one colour are independent, so leaving a batch out changes no other.
-template <LaneFn LaneSolve>
+template <LaneFn LaneSolve, bool Shared>
 [[gnu::always_inline]] inline void sweep_marked_run(ContactBatch* batches, const std::uint8_t* marked, int count,
                                                     FxBodyState* states, const ContactSolveParams& params,
                                                     bool serial) {
@@ -332,16 +333,16 @@ template <LaneFn LaneSolve>
     } else if (serial) {
       run_serial<LaneSolve>(batches[i++], states, params);
     } else if (i + 1 < count && marked[i + 1]) {
-      run_batched<LaneSolve, 2>(batches + i, states, params);
+      run_batched<LaneSolve, 2, Shared>(batches + i, states, params);
       i += 2;
     } else {
-      run_batched<LaneSolve, 1>(batches + i++, states, params);
+      run_batched<LaneSolve, 1, Shared>(batches + i++, states, params);
     }
   }
 }
 
 // Every batch of every run, or with `marked` only the batches it flags.
-template <LaneFn OnePoint, LaneFn TwoPoints>
+template <LaneFn OnePoint, LaneFn TwoPoints, bool Shared>
 [[gnu::always_inline]] inline void sweep(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
                                          const ContactSolveParams& caller_params, bool scalar,
                                          const std::uint8_t* marked = nullptr) {
@@ -353,32 +354,44 @@ template <LaneFn OnePoint, LaneFn TwoPoints>
     if (marked != nullptr) {
       const std::uint8_t* run_marks = marked + run.first;
       if (run.point_count == 1) {
-        sweep_marked_run<OnePoint>(first, run_marks, run.count, states, params, serial);
+        sweep_marked_run<OnePoint, Shared>(first, run_marks, run.count, states, params, serial);
       } else {
-        sweep_marked_run<TwoPoints>(first, run_marks, run.count, states, params, serial);
+        sweep_marked_run<TwoPoints, Shared>(first, run_marks, run.count, states, params, serial);
       }
     } else if (run.point_count == 1) {
-      sweep_run<OnePoint>(first, run.count, states, params, serial);
+      sweep_run<OnePoint, Shared>(first, run.count, states, params, serial);
     } else {
-      sweep_run<TwoPoints>(first, run.count, states, params, serial);
+      sweep_run<TwoPoints, Shared>(first, run.count, states, params, serial);
     }
+  }
+}
+
+// sweep(), writing back every body (on one thread) or, when `shared`, the movable ones alone.
+template <LaneFn OnePoint, LaneFn TwoPoints>
+[[gnu::always_inline]] inline void sweep_writing(bool shared, std::span<const BatchRun> runs, ContactBatch* batches,
+                                                 FxBodyState* states, const ContactSolveParams& params, bool scalar,
+                                                 const std::uint8_t* marked = nullptr) {
+  if (shared) {
+    sweep<OnePoint, TwoPoints, true>(runs, batches, states, params, scalar, marked);
+  } else {
+    sweep<OnePoint, TwoPoints, false>(runs, batches, states, params, scalar, marked);
   }
 }
 
 // The sweeps the step runs, each compiled once per instruction set FX2D_LANE_KERNEL names.
 FX2D_LANE_KERNEL void warm_start_runs(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
-                                      bool scalar) {
-  sweep<&warm_start_lane<1>, &warm_start_lane<2>>(runs, batches, states, {}, scalar);
+                                      bool scalar, bool shared) {
+  sweep_writing<&warm_start_lane<1>, &warm_start_lane<2>>(shared, runs, batches, states, {}, scalar);
 }
 
 FX2D_LANE_KERNEL void push_runs(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
-                                const ContactSolveParams& params, bool scalar, const std::uint8_t* deep) {
-  sweep<&push_lane<1>, &push_lane<2>>(runs, batches, states, params, scalar, deep);
+                                const ContactSolveParams& params, bool scalar, bool shared, const std::uint8_t* deep) {
+  sweep_writing<&push_lane<1>, &push_lane<2>>(shared, runs, batches, states, params, scalar, deep);
 }
 
 FX2D_LANE_KERNEL void take_back_push_runs(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
-                                          bool scalar, const std::uint8_t* deep) {
-  sweep<&take_back_push_lane<1>, &take_back_push_lane<2>>(runs, batches, states, {}, scalar, deep);
+                                          bool scalar, bool shared, const std::uint8_t* deep) {
+  sweep_writing<&take_back_push_lane<1>, &take_back_push_lane<2>>(shared, runs, batches, states, {}, scalar, deep);
 }
 
 // Marks in `deep` each batch with a point deeper than `slop`; whether any has one.
@@ -396,40 +409,108 @@ FX2D_LANE_KERNEL bool update_run_separations(std::span<const BatchRun> runs, Con
 }
 
 FX2D_LANE_KERNEL void solve_runs_biased(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
-                                        const ContactSolveParams& params, bool scalar) {
-  sweep<&solve_lane<1, true>, &solve_lane<2, true>>(runs, batches, states, params, scalar);
+                                        const ContactSolveParams& params, bool scalar, bool shared) {
+  sweep_writing<&solve_lane<1, true>, &solve_lane<2, true>>(shared, runs, batches, states, params, scalar);
 }
 
 FX2D_LANE_KERNEL void solve_runs_relaxed(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
-                                         const ContactSolveParams& params, bool scalar) {
-  sweep<&solve_lane<1, false>, &solve_lane<2, false>>(runs, batches, states, params, scalar);
+                                         const ContactSolveParams& params, bool scalar, bool shared) {
+  sweep_writing<&solve_lane<1, false>, &solve_lane<2, false>>(shared, runs, batches, states, params, scalar);
 }
+
+// The runs among `runs` (in batch order) cut to the batches [begin, end), written to `cut`.
+std::span<const BatchRun> cut_runs(std::span<const BatchRun> runs, int begin, int end, BatchRun* cut) {
+  std::size_t count = 0;
+  for (const BatchRun& run : runs) {
+    const int first = std::max(run.first, begin);
+    const int last = std::min(run.first + run.count, end);
+    if (first < last) cut[count++] = {first, last - first, run.point_count, run.serial};
+  }
+  return {cut, count};
+}
+
+// The most runs pack() makes: one per point count, per colour and for the overflow.
+constexpr int max_runs = 2 * (ContactGraph::max_colours + 1);
 
 }  // namespace
 
-void ContactBatches::warm_start(std::span<FxBodyState> states, bool scalar) {
-  warm_start_runs(runs_, batches_.data(), states.data(), scalar);
+template <class Sweep>
+void ContactBatches::sweep_by_colour(bool scalar, const Tasks& tasks, const Sweep& sweep) {
+  // The scalar twin is a check of the lanes' arithmetic, and its lane-by-lane write-back of a
+  // shared static body would race: it stays on one thread.
+  if (scalar || !tasks.runs_in_parallel(widest_colour_, min_parallel_batches)) {
+    sweep(std::span<const BatchRun>(runs_), false);
+  } else {
+    sweep_colours_apart(tasks, sweep);
+  }
 }
 
-void ContactBatches::push(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar) {
-  if (any_deep_) push_runs(runs_, batches_.data(), states.data(), params, scalar, deep_.data());
+template <class Sweep>
+void ContactBatches::sweep_colours_apart(const Tasks& tasks, const Sweep& sweep) {
+  const std::span<const BatchRun> runs(runs_);
+  for (int colour = 0; colour < colour_count_; ++colour) {
+    const std::span<const BatchRun> colour_runs = runs.subspan(first_run_[colour], first_run_[colour + 1] - first_run_[colour]);
+    const int first = colour_runs.front().first;
+    const auto count = static_cast<std::uint32_t>(colour_runs.back().first + colour_runs.back().count - first);
+    const bool shared = tasks.runs_in_parallel(count, min_parallel_batches);
+    tasks.for_each_range(count, batches_per_block, min_parallel_batches, [&](std::uint32_t begin, std::uint32_t end) {
+      BatchRun cut[2];
+      sweep(cut_runs(colour_runs, first + static_cast<int>(begin), first + static_cast<int>(end), cut), shared);
+    });
+  }
+  sweep(runs.subspan(first_run_[colour_count_]), false);
 }
 
-void ContactBatches::take_back_push(std::span<FxBodyState> states, bool scalar) {
-  if (any_deep_) take_back_push_runs(runs_, batches_.data(), states.data(), scalar, deep_.data());
+void ContactBatches::warm_start(std::span<FxBodyState> states, bool scalar, const Tasks& tasks) {
+  sweep_by_colour(scalar, tasks, [&](std::span<const BatchRun> runs, bool shared) {
+    warm_start_runs(runs, batches_.data(), states.data(), scalar, shared);
+  });
 }
 
-void ContactBatches::update_separations(std::span<const FxBodyState> states, float slop) {
-  any_deep_ = update_run_separations(runs_, batches_.data(), states.data(), slop, deep_.data());
+void ContactBatches::push(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar,
+                          const Tasks& tasks) {
+  if (!any_deep_) return;
+  sweep_by_colour(scalar, tasks, [&](std::span<const BatchRun> runs, bool shared) {
+    push_runs(runs, batches_.data(), states.data(), params, scalar, shared, deep_.data());
+  });
+}
+
+void ContactBatches::take_back_push(std::span<FxBodyState> states, bool scalar, const Tasks& tasks) {
+  if (!any_deep_) return;
+  sweep_by_colour(scalar, tasks, [&](std::span<const BatchRun> runs, bool shared) {
+    take_back_push_runs(runs, batches_.data(), states.data(), scalar, shared, deep_.data());
+  });
+}
+
+void ContactBatches::update_separations(std::span<const FxBodyState> states, float slop, const Tasks& tasks) {
+  if (tasks.runs_in_parallel(static_cast<std::uint32_t>(batches_.size()), min_parallel_batches)) {
+    update_separations_apart(states, slop, tasks);
+  } else {
+    any_deep_ = update_run_separations(runs_, batches_.data(), states.data(), slop, deep_.data());
+  }
+}
+
+void ContactBatches::update_separations_apart(std::span<const FxBodyState> states, float slop, const Tasks& tasks) {
+  const auto count = static_cast<std::uint32_t>(batches_.size());
+  // Each range writes only its own batches and marks; whether any is deep is read off the marks
+  // afterwards, not gathered from the threads.
+  tasks.for_each_range(count, batches_per_block, min_parallel_batches, [&](std::uint32_t begin, std::uint32_t end) {
+    BatchRun cut[max_runs];
+    update_run_separations(cut_runs(runs_, static_cast<int>(begin), static_cast<int>(end), cut), batches_.data(),
+                           states.data(), slop, deep_.data());
+  });
+  any_deep_ = std::find(deep_.begin(), deep_.end(), std::uint8_t{1}) != deep_.end();
 }
 
 void ContactBatches::resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias,
-                                        bool scalar) {
-  if (use_bias) {
-    solve_runs_biased(runs_, batches_.data(), states.data(), params, scalar);
-  } else {
-    solve_runs_relaxed(runs_, batches_.data(), states.data(), params, scalar);
-  }
+                                        bool scalar, const Tasks& tasks) {
+  sweep_by_colour(scalar, tasks, [&](std::span<const BatchRun> runs, bool shared) {
+    if (use_bias) {
+      solve_runs_biased(runs, batches_.data(), states.data(), params, scalar, shared);
+    } else {
+      solve_runs_relaxed(runs, batches_.data(), states.data(), params, scalar, shared);
+    }
+  });
 }
 
 }  // namespace fx2d::detail

@@ -15,7 +15,12 @@
 //   the chain that bounds a pass;
 // - the arithmetic of one lane is one function (contact_batch.cpp) used by both the batched and
 //   the scalar path, and lanes are independent, so the two agree to the bit and the result does
-//   not depend on the lane count.
+//   not depend on the lane count;
+// - with several workers, the batches of one colour are spread over them in ranges, colour after
+//   colour with a wait between, and the overflow runs on the stepping thread alone. Batches of a
+//   colour share no movable body, so they may run in any order on any thread and give the same
+//   bits; they write back only the bodies that carry movable_flag, since the unchanged copies of a
+//   static or kinematic body would otherwise be written from two threads at once.
 #pragma once
 
 #include <cstdint>
@@ -25,6 +30,7 @@
 #include "solver/contact_graph.h"
 #include "solver/contact_solver.h"
 #include "solver/lane_rows.h"
+#include "world/tasks.h"
 
 namespace fx2d::detail {
 
@@ -100,6 +106,11 @@ struct BatchRun {
   bool serial = false;  // overflow: lanes may share bodies
 };
 
+// Batches per range of a colour spread over the workers, and the fewest batches a colour needs to
+// be spread at all (measured: see the commit that set them, and fx2d/src/README.md).
+inline constexpr std::uint32_t batches_per_block = 4;
+inline constexpr std::uint32_t min_parallel_batches = 32;
+
 class ContactBatches {
  public:
   // Grows storage for this many constraints, so pack() does not allocate up to there.
@@ -107,30 +118,47 @@ class ContactBatches {
   // Packs the constraints colour by colour. `padding_body` indexes a state that is never read
   // back (one past the last body).
   void pack(std::span<const ContactConstraint> constraints, const ContactGraph& graph, std::uint32_t padding_body);
-  // With `scalar`, every batch is solved lane by lane (the scalar twin); the result is the same.
-  void warm_start(std::span<FxBodyState> states, bool scalar);
+  // With `scalar`, every batch is solved lane by lane (the scalar twin), on the stepping thread;
+  // the result is the same. `tasks` spreads each colour's batches over the workers.
+  void warm_start(std::span<FxBodyState> states, bool scalar, const Tasks& tasks);
   // Works out every point's separation at the current poses; the velocity passes read it. Poses
   // change only between substeps, so once after each position integration is enough. Also marks
   // the batches with a point deeper than `slop`, the only ones push() touches.
-  void update_separations(std::span<const FxBodyState> states, float slop);
+  void update_separations(std::span<const FxBodyState> states, float slop, const Tasks& tasks);
   // Gives every point deeper than the slop the velocity that separates it at the soft contact's
   // rate, at most max_push_speed; take_back_push(), once the positions have moved, removes exactly
   // that velocity again, so overlaps are pushed apart in position and nothing is launched. Both
   // visit only the batches update_separations() marked deep, and nothing when none is: a resting
   // scene, whose overlaps stay within the slop, pays for neither. take_back_push() must run before
   // the next update_separations(), which moves the marks.
-  void push(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar);
-  void take_back_push(std::span<FxBodyState> states, bool scalar);
-  void resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias, bool scalar);
+  void push(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar, const Tasks& tasks);
+  void take_back_push(std::span<FxBodyState> states, bool scalar, const Tasks& tasks);
+  void resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias, bool scalar,
+                          const Tasks& tasks);
   // Copies the accumulated impulses back to the constraints they came from.
   void unpack(std::span<ContactConstraint> constraints) const;
 
  private:
   void add_runs(std::span<const ContactConstraint> constraints, std::span<const int> members, bool serial,
                 std::uint32_t padding_body);
+  // Calls sweep(runs, shared) over every run: at once on this thread (shared false), or, when
+  // some colour is wide enough to spread, colour by colour over the workers on ranges of runs cut
+  // to whole batches (shared true: only movable bodies may be written back), then the overflow on
+  // this thread. The sweep over a colour's ranges returns before the next colour starts.
+  template <class Sweep>
+  void sweep_by_colour(bool scalar, const Tasks& tasks, const Sweep& sweep);
+  // The spread halves of sweep_by_colour() and update_separations(), kept out of line so that
+  // the one-thread path stays as short as it was before threads.
+  template <class Sweep>
+  [[gnu::noinline]] void sweep_colours_apart(const Tasks& tasks, const Sweep& sweep);
+  [[gnu::noinline]] void update_separations_apart(std::span<const FxBodyState> states, float slop, const Tasks& tasks);
 
   std::vector<ContactBatch> batches_;
   std::vector<BatchRun> runs_;
+  // Colour c's runs are runs_[first_run_[c], first_run_[c + 1]); the overflow's follow them.
+  int first_run_[ContactGraph::max_colours + 1] = {};
+  int colour_count_ = 0;
+  std::uint32_t widest_colour_ = 0;  // batches in the colour with the most
   // Per batch: whether a point of it was deeper than the slop at the last update_separations().
   std::vector<std::uint8_t> deep_;
   bool any_deep_ = false;

@@ -106,9 +106,15 @@ void ContactBatches::pack(std::span<const ContactConstraint> constraints, const 
                           std::uint32_t padding_body) {
   batches_.clear();
   runs_.clear();
-  for (int colour = 0; colour < graph.colour_count(); ++colour) {
+  colour_count_ = graph.colour_count();
+  widest_colour_ = 0;
+  for (int colour = 0; colour < colour_count_; ++colour) {
+    first_run_[colour] = static_cast<int>(runs_.size());
+    const auto first_batch = batches_.size();
     add_runs(constraints, graph.members(colour), false, padding_body);
+    widest_colour_ = std::max(widest_colour_, static_cast<std::uint32_t>(batches_.size() - first_batch));
   }
+  first_run_[colour_count_] = static_cast<int>(runs_.size());
   add_runs(constraints, graph.members(ContactGraph::overflow), true, padding_body);
   deep_.assign(batches_.size(), 0);
   any_deep_ = false;

@@ -46,54 +46,79 @@ float current_separation(const FxBodyState& a, const FxBodyState& b, FxVec2f nor
   return dot(gap, normal) + p.adjusted_separation;
 }
 
+// Whether a contact becomes a constraint this step: touching, with an awake body.
+bool is_active(const CachedContact& contact, const Bodies& bodies) {
+  return contact.touching && (bodies.records[contact.body_a].awake || bodies.records[contact.body_b].awake);
+}
+
+// The constraint of one active contact: reads the contact and its bodies, writes `c` alone.
+void build_constraint(ContactConstraint& c, int id, const CachedContact& contact, const Bodies& bodies) {
+  const BodySim& sim_a = bodies.sims[contact.body_a];
+  const BodySim& sim_b = bodies.sims[contact.body_b];
+  c.body_a = contact.body_a;
+  c.body_b = contact.body_b;
+  c.cache_id = id;
+  c.point_count = contact.manifold.point_count;
+  c.normal = contact.manifold.normal;
+  c.inv_mass_a = sim_a.inv_mass;
+  c.inv_inertia_a = sim_a.inv_inertia;
+  c.inv_mass_b = sim_b.inv_mass;
+  c.inv_inertia_b = sim_b.inv_inertia;
+  c.restitution = contact.restitution;
+
+  // The manifold is in a frame centred on body a's origin; move it to the centres of mass.
+  const FxVec2f center_a = rotate(sim_a.rotation, sim_a.local_center);
+  const FxVec2f center_b = bodies.center_offset(contact.body_a, contact.body_b) + center_a;
+  const FxVec2f tangent = right_perp(c.normal);
+  float sliding_speed = 0.0f;
+  for (int i = 0; i < c.point_count; ++i) {
+    const ManifoldPoint& mp = contact.manifold.points[i];
+    ContactPointConstraint& p = c.points[i];
+    p.anchor_a = mp.point - center_a;
+    p.anchor_b = mp.point - center_b;
+    p.adjusted_separation = mp.separation - dot(p.anchor_b - p.anchor_a, c.normal);
+    p.normal_mass = effective_mass(c, p.anchor_a, p.anchor_b, c.normal);
+    p.tangent_mass = effective_mass(c, p.anchor_a, p.anchor_b, tangent);
+    p.normal_impulse = contact.normal_impulse[i];
+    p.tangent_impulse = contact.tangent_impulse[i];
+    p.max_normal_impulse = 0.0f;
+    const FxVec2f dv = (sim_b.linear_velocity + cross(sim_b.angular_velocity, p.anchor_b)) -
+                       (sim_a.linear_velocity + cross(sim_a.angular_velocity, p.anchor_a));
+    p.relative_velocity = dot(dv, c.normal);
+    sliding_speed = std::max(sliding_speed, std::fabs(dot(dv, tangent)));
+  }
+  c.friction = sliding_speed > sticking_speed ? contact.dynamic_friction : contact.static_friction;
+}
+
 }  // namespace
 
-void ContactSolver::prepare(const ContactCache& contacts, const Bodies& bodies) {
+void ContactSolver::reserve(std::size_t constraint_count) {
+  constraints.reserve(constraint_count);
+  sources_.reserve(constraint_count);
+}
+
+void ContactSolver::prepare(const ContactCache& contacts, const Bodies& bodies, const Tasks& tasks) {
   constraints.clear();
-  for (int id = 0; id < static_cast<int>(contacts.slots.size()); ++id) {
-    const CachedContact& contact = contacts.slots[id];
-    if (!contact.touching) continue;
-    const BodyRecord& record_a = bodies.records[contact.body_a];
-    const BodyRecord& record_b = bodies.records[contact.body_b];
-    if (!record_a.awake && !record_b.awake) continue;
-    const BodySim& sim_a = bodies.sims[contact.body_a];
-    const BodySim& sim_b = bodies.sims[contact.body_b];
-
-    ContactConstraint& c = constraints.emplace_back();
-    c.body_a = contact.body_a;
-    c.body_b = contact.body_b;
-    c.cache_id = id;
-    c.point_count = contact.manifold.point_count;
-    c.normal = contact.manifold.normal;
-    c.inv_mass_a = sim_a.inv_mass;
-    c.inv_inertia_a = sim_a.inv_inertia;
-    c.inv_mass_b = sim_b.inv_mass;
-    c.inv_inertia_b = sim_b.inv_inertia;
-    c.restitution = contact.restitution;
-
-    // The manifold is in a frame centred on body a's origin; move it to the centres of mass.
-    const FxVec2f center_a = rotate(sim_a.rotation, sim_a.local_center);
-    const FxVec2f center_b = bodies.center_offset(contact.body_a, contact.body_b) + center_a;
-    const FxVec2f tangent = right_perp(c.normal);
-    float sliding_speed = 0.0f;
-    for (int i = 0; i < c.point_count; ++i) {
-      const ManifoldPoint& mp = contact.manifold.points[i];
-      ContactPointConstraint& p = c.points[i];
-      p.anchor_a = mp.point - center_a;
-      p.anchor_b = mp.point - center_b;
-      p.adjusted_separation = mp.separation - dot(p.anchor_b - p.anchor_a, c.normal);
-      p.normal_mass = effective_mass(c, p.anchor_a, p.anchor_b, c.normal);
-      p.tangent_mass = effective_mass(c, p.anchor_a, p.anchor_b, tangent);
-      p.normal_impulse = contact.normal_impulse[i];
-      p.tangent_impulse = contact.tangent_impulse[i];
-      p.max_normal_impulse = 0.0f;
-      const FxVec2f dv = (sim_b.linear_velocity + cross(sim_b.angular_velocity, p.anchor_b)) -
-                         (sim_a.linear_velocity + cross(sim_a.angular_velocity, p.anchor_a));
-      p.relative_velocity = dot(dv, c.normal);
-      sliding_speed = std::max(sliding_speed, std::fabs(dot(dv, tangent)));
+  if (!tasks.runs_in_parallel(static_cast<std::uint32_t>(contacts.touching_count), min_parallel_constraints)) {
+    for (int id = 0; id < static_cast<int>(contacts.slots.size()); ++id) {
+      const CachedContact& contact = contacts.slots[id];
+      if (is_active(contact, bodies)) build_constraint(constraints.emplace_back(), id, contact, bodies);
     }
-    c.friction = sliding_speed > sticking_speed ? contact.dynamic_friction : contact.static_friction;
+    return;
   }
+  // Which contacts become constraints, in cache order, on this thread; then each constraint in
+  // ranges, each writing only its own.
+  sources_.clear();
+  for (int id = 0; id < static_cast<int>(contacts.slots.size()); ++id) {
+    if (is_active(contacts.slots[id], bodies)) sources_.push_back(id);
+  }
+  constraints.resize(sources_.size());
+  tasks.for_each_range(static_cast<std::uint32_t>(sources_.size()), constraints_per_block, min_parallel_constraints,
+                       [&](std::uint32_t first, std::uint32_t last) {
+                         for (std::uint32_t i = first; i < last; ++i) {
+                           build_constraint(constraints[i], sources_[i], contacts.slots[sources_[i]], bodies);
+                         }
+                       });
 }
 
 void ContactSolver::apply_restitution(std::span<FxBodyState> states, float threshold) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "fx2d/Constraint.h"
+#include "world/tasks.h"
 
 namespace fx2d::detail {
 
@@ -54,10 +55,18 @@ struct ContactSolveParams {
   float linear_slop = 0;
 };
 
+// Constraints per range of a prepare() spread over the workers, and the fewest touching contacts
+// worth spreading it for (measured: see fx2d/src/README.md).
+inline constexpr std::uint32_t constraints_per_block = 64;
+inline constexpr std::uint32_t min_parallel_constraints = 1024;
+
 class ContactSolver {
  public:
-  // Builds one constraint per touching contact that has an awake body, in contact cache order.
-  void prepare(const ContactCache& contacts, const Bodies& bodies);
+  // Grows storage for this many constraints, so prepare() does not allocate up to there.
+  void reserve(std::size_t constraint_count);
+  // Builds one constraint per touching contact that has an awake body, in contact cache order;
+  // the constraints' arithmetic spread over `tasks` when there are enough.
+  void prepare(const ContactCache& contacts, const Bodies& bodies, const Tasks& tasks);
   // After the substeps: bounce where an approaching point pushed and restitution is > 0.
   void apply_restitution(std::span<FxBodyState> states, float threshold);
   // Non-linear Gauss-Seidel projection of overlaps deeper than the slop, on positions only.
@@ -65,6 +74,9 @@ class ContactSolver {
   void store_impulses(ContactCache& cache) const;
 
   std::vector<ContactConstraint> constraints;
+
+ private:
+  std::vector<int> sources_;  // per constraint, its contact's cache id (a spread prepare() only)
 };
 
 }  // namespace fx2d::detail

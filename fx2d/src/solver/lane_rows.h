@@ -83,12 +83,26 @@ template <std::size_t Row>
   std::memcpy(reinterpret_cast<unsigned char*>(&state) + Row, row, sizeof(LaneRow));
 }
 
+// FxBodyState::flags of a body whose state contacts change (a dynamic, awake one); zero for the
+// others (static, kinematic, sleeping) and the padding body. Set by prepare_solver().
+inline constexpr std::uint32_t movable_flag = 1;
+
+// Whether a velocity row (vx, vy, w, flags), as bytes, belongs to a body with movable_flag.
+[[gnu::always_inline]] inline bool is_movable_row(const unsigned char* row) {
+  std::uint32_t flags;
+  std::memcpy(&flags, row + offsetof(FxBodyState, flags), sizeof flags);
+  return (flags & movable_flag) != 0;
+}
+
 // The inverse: columns back into row `Row` of each body, each row written whole. Bodies that
 // appear in more than one lane must carry the same values in each (the caller's invariant), as
-// the rows are written in the order 0, 4, 1, 5, ...
-template <std::size_t Row>
+// the rows are written in the order 0, 4, 1, 5, ... With `MovableOnly` (velocity rows only), the
+// rows of bodies without movable_flag, which those shared lanes carry unchanged, are not written
+// at all: other threads may be reading or writing those same bodies at once.
+template <std::size_t Row, bool MovableOnly = false>
 [[gnu::always_inline]] inline void scatter_columns(FxBodyState* __restrict states, const std::uint32_t* body,
                                                    const LaneColumns& c) {
+  static_assert(!MovableOnly || Row == velocity_row, "only a velocity row carries the flags");
   // The same two rounds of in-half interleaving, which undo each other.
   const LaneColumn t0 = __builtin_shufflevector(c.c0, c.c1, 0, 8, 1, 9, 4, 12, 5, 13);
   const LaneColumn t1 = __builtin_shufflevector(c.c0, c.c1, 2, 10, 3, 11, 6, 14, 7, 15);
@@ -103,8 +117,9 @@ template <std::size_t Row>
     // Each half stored straight from the vector's bytes: one 128-bit extract to memory, where
     // shuffling the upper half down first cost an extra instruction per row.
     const auto* halves = reinterpret_cast<const unsigned char*>(&rows[i]);
-    store_row<Row>(states[body[i]], halves);
-    store_row<Row>(states[body[i + 4]], halves + sizeof(LaneRow));
+    const unsigned char* upper = halves + sizeof(LaneRow);
+    if (!MovableOnly || is_movable_row(halves)) store_row<Row>(states[body[i]], halves);
+    if (!MovableOnly || is_movable_row(upper)) store_row<Row>(states[body[i + 4]], upper);
   }
 }
 

@@ -98,7 +98,7 @@ void SolverData::reserve(std::size_t bodies) {
   states.reserve(bodies + 1);
   movable.reserve(bodies + 1);
   integration.reserve(bodies);
-  contact_solver.constraints.reserve(4 * bodies);
+  contact_solver.reserve(4 * bodies);
   contact_graph.reserve(4 * bodies, bodies + 1);
   contact_batches.reserve(4 * bodies);
 }
@@ -136,18 +136,19 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
     state.angular_velocity = sims[i].angular_velocity;
     integration.add_moving(i);
     if (records[i].type != FxBodyType::dynamic) continue;
+    state.flags = movable_flag;
     integration.add_dynamic(i, clamped_acceleration(settings.gravity + sims[i].inv_mass * sims[i].force, step.max_acceleration),
                             1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping));
   }
   integration.finish();
-  solver.contact_solver.prepare(contacts, bodies);
+  solver.contact_solver.prepare(contacts, bodies, step.tasks);
 }
 
 void colour_and_pack(const StepContext& step, SolverData& solver) {
   const std::vector<ContactConstraint>& constraints = solver.contact_solver.constraints;
   solver.contact_graph.build(constraints, solver.movable);
   solver.contact_batches.pack(constraints, solver.contact_graph, step.body_count);
-  solver.contact_batches.update_separations(solver.states, step.contact.linear_slop);
+  solver.contact_batches.update_separations(solver.states, step.contact.linear_slop, step.tasks);
 }
 
 namespace {
@@ -174,12 +175,12 @@ class Substep {
       for (const auto& constraint : constraints_) constraint->warm_start(joints_);
     }
     step_.clock.switch_to(FxStage::warm_start);
-    solver_.contact_batches.warm_start(solver_.states, step_.settings.force_scalar_solver);
+    solver_.contact_batches.warm_start(solver_.states, step_.settings.force_scalar_solver, step_.tasks);
   }
 
   void solve() {
     for (int pass = 0; pass < step_.settings.velocity_passes; ++pass) velocity_pass(FxStage::solve, true);
-    solver_.contact_batches.push(solver_.states, step_.contact, step_.settings.force_scalar_solver);
+    solver_.contact_batches.push(solver_.states, step_.contact, step_.settings.force_scalar_solver, step_.tasks);
   }
 
   void integrate_positions() {
@@ -191,8 +192,8 @@ class Substep {
 
   void relax() {
     step_.clock.switch_to(FxStage::relax);
-    solver_.contact_batches.take_back_push(solver_.states, step_.settings.force_scalar_solver);
-    solver_.contact_batches.update_separations(solver_.states, step_.contact.linear_slop);
+    solver_.contact_batches.take_back_push(solver_.states, step_.settings.force_scalar_solver, step_.tasks);
+    solver_.contact_batches.update_separations(solver_.states, step_.contact.linear_slop, step_.tasks);
     for (int pass = 0; pass < step_.settings.relax_passes; ++pass) velocity_pass(FxStage::relax, false);
   }
 
@@ -205,7 +206,7 @@ class Substep {
     }
     step_.clock.switch_to(stage);
     solver_.contact_batches.resolve_velocities(solver_.states, step_.contact, use_bias,
-                                               step_.settings.force_scalar_solver);
+                                               step_.settings.force_scalar_solver, step_.tasks);
   }
 
   const StepContext& step_;
