@@ -76,9 +76,10 @@ TEST(ContinuousCollision, SpinningThinPlankDoesNotPassAThinWall) {
     closest = std::max(closest, plank->aabb().upper.x);
   }
   EXPECT_GT(closest, -wall_half_thickness - 0.05f) << "stopped short of the wall";
-  // Without restitution it does not bounce back: one relaxation pass (the default schedule) leaves
-  // it 0.75 m/s of the 300 it hit with, four passes 0.001 m/s.
-  EXPECT_LT(length(plank->linear_velocity()), 0.005f * speed);
+  // Without restitution it does not bounce back off the wall: the default schedule's two relaxation
+  // passes leave it 0.16 m/s of the 300 it hit with (one pass 0.75 m/s, four 0.001 m/s). Along the
+  // wall it may leave faster: friction turns some of its spin into sliding.
+  EXPECT_LT(std::fabs(plank->linear_velocity().x), 0.005f * speed);
 }
 
 TEST(ContinuousCollision, SmallFastBoxLandsOnAThinFloor) {

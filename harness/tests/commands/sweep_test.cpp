@@ -105,7 +105,7 @@ std::vector<int> int_column(hid_t file, const char* dataset_path) {
 
 // relax_passes is an optional key that scenes leave out. Swept, the point at Fx2D's default is the
 // scene's own: marked default, no extra point, and the same scene hash as a sweep that leaves the
-// knob alone. Three boxes sunk into each other: one relaxation pass leaves more of the soft
+// knob alone. Three boxes sunk into each other: two relaxation passes leave more of the soft
 // spring's velocity than four, so the knob visibly reaches the engine.
 TEST(SweepCommand, SweepsRelaxationPassesWhenAskedAndKeepsTheSceneItselfAsTheDefault) {
   const fs::path directory = fs::temp_directory_path() / ("sweep_test_relax_" + std::to_string(getpid()));
@@ -121,16 +121,16 @@ TEST(SweepCommand, SweepsRelaxationPassesWhenAskedAndKeepsTheSceneItselfAsTheDef
   std::fclose(file);
   const fs::path out = directory / "sweep.h5";
   const std::string grid = "sweep " + scene.string() + " --engine fx2d --fx2d-substeps 12 --fx2d-passes 2 --repeats 1 --json";
-  const Outcome relaxed = run_bench(grid + " --fx2d-relax 1,4 --out " + out.string());
+  const Outcome relaxed = run_bench(grid + " --fx2d-relax 2,4 --out " + out.string());
   const Outcome plain = run_bench(grid);
   ASSERT_EQ(relaxed.exit_code, 0) << relaxed.out;
   ASSERT_EQ(plain.exit_code, 0) << plain.out;
 
   const auto points = nlohmann::json::parse(relaxed.out)["points"];
   ASSERT_EQ(points.size(), 2u);
-  EXPECT_EQ(points[0]["settings"]["relax_passes"], 1);
+  EXPECT_EQ(points[0]["settings"]["relax_passes"], 2);
   EXPECT_EQ(points[1]["settings"]["relax_passes"], 4);
-  // The engine's own single relaxation pass is the default point, and the scene without the key is it.
+  // The engine's own two relaxation passes are the default point, and the scene without the key is it.
   EXPECT_TRUE(points[0]["default"].get<bool>());
   EXPECT_FALSE(points[1]["default"].get<bool>());
   const auto plain_default = nlohmann::json::parse(plain.out)["points"][0];
@@ -142,7 +142,7 @@ TEST(SweepCommand, SweepsRelaxationPassesWhenAskedAndKeepsTheSceneItselfAsTheDef
 
   const hid_t h5 = H5Fopen(out.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(h5, 0);
-  EXPECT_EQ(int_column(h5, "/sweep/fx2d_relax_passes"), (std::vector<int>{1, 4}));
+  EXPECT_EQ(int_column(h5, "/sweep/fx2d_relax_passes"), (std::vector<int>{2, 4}));
   H5Fclose(h5);
   fs::remove_all(directory);
 }
