@@ -16,9 +16,6 @@ namespace {
 // extent: less cannot carry it past anything before the contact it makes pushes back (Box2D's
 // safety factor).
 constexpr float fast_share = 0.5f;
-// The core of a body, the part kept from passing through what it already touches, is a circle of
-// this share of its inner extent.
-constexpr float core_share = 0.25f;
 
 // A bound on how far any point of a body moved in the step `state` records.
 float step_motion(const FxBodyState& state, float body_reach) {
@@ -62,6 +59,7 @@ class FastBodyPass {
   // The first body hit, when, and its motion in the frame of the body that hit it.
   struct Impact {
     float fraction = 1.0f;
+    bool from_contact = false;
     std::uint32_t other = 0;
     Sweep other_sweep;
   };
@@ -75,11 +73,6 @@ class FastBodyPass {
     return union_of(box, sim.aabb);
   }
 
-  FxShape core_of(std::uint32_t body) const {
-    const BodyRecord& record = bodies_.records[body];
-    return FxShape::circle(core_share * record.inner_extent, record.shape.centroid());
-  }
-
   // The earliest impact of `body` on a body it is swept against; fraction 1 when there is none.
   // Ties go to the lower index, so the tree's order of visits does not matter.
   Impact first_impact(std::uint32_t body, const Sweep& sweep) const {
@@ -90,13 +83,10 @@ class FastBodyPass {
       const BodyRecord& record = bodies_.records[other];
       if (other == body || !sweeps_against(record, bullets_) || broad_.jointed(body, other)) return true;
       const Sweep other_sweep = sweep_of(bodies_, states_, other, bodies_.origin_offset(body, other));
-      float fraction = time_of_impact(shape, sweep, record.shape, other_sweep, gap_);
-      // 0: the two were that close when the step began. Their contact holds them apart, but a body
-      // that turns fast can still swing through about the point it touches: its core, a circle
-      // at its centroid, is kept from passing (as Box2D v3.1 does).
-      if (fraction == 0.0f) fraction = time_of_impact(core_of(body), sweep, record.shape, other_sweep, gap_);
+      const TimeOfImpact impact = time_of_impact(shape, sweep, record.shape, other_sweep, gap_);
+      const float fraction = impact.fraction;
       const bool earlier = fraction < earliest.fraction || (fraction == earliest.fraction && other < earliest.other);
-      if (fraction > 0.0f && fraction < 1.0f && earlier) earliest = {fraction, other, other_sweep};
+      if (fraction < 1.0f && earlier) earliest = {fraction, impact.from_contact, other, other_sweep};
       return true;
     });
     return earliest;
@@ -119,6 +109,22 @@ class FastBodyPass {
     state.delta_rotation = inv_mul(sweep.rotation0, carried.q);
     record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
     broad_.refresh(record, sim.aabb);
+    if (impact.from_contact) {
+      const Separation at_contact = shape_separation(record.shape, at_impact, bodies_.records[impact.other].shape,
+                                                     hit_at_impact);
+      stop_approach(body, impact.other, at_contact.normal);
+    }
+  }
+
+  // Takes from `body`'s velocity what carries its centre towards a body it already touched, along
+  // the normal where the sweep stopped it. The contact left that approach (a first impact's is the
+  // next step's contact to answer, with spin and momentum to share); kept, it would stop a body that
+  // turns about the point it touches early in every step (its sweep takes the centre on a straight
+  // line, not on the arc about that point), and the body would never move on.
+  void stop_approach(std::uint32_t body, std::uint32_t other, FxVec2f normal) {
+    FxVec2f& velocity = bodies_.sims[body].linear_velocity;
+    const float approach = dot(velocity - bodies_.sims[other].linear_velocity, normal);
+    if (approach > 0.0f) velocity -= approach * normal;
   }
 
   float gap_;

@@ -161,24 +161,31 @@ Separation shape_separation(const FxShape& a, const FxTransform& xf_a, const FxS
   return polygons(a, xf_a, b, xf_b);
 }
 
-float time_of_impact(const FxShape& a, const Sweep& sweep_a, const FxShape& b, const Sweep& sweep_b, float target) {
+TimeOfImpact time_of_impact(const FxShape& a, const Sweep& sweep_a, const FxShape& b, const Sweep& sweep_b,
+                            float target) {
   // The distance between the shapes shrinks no faster than the relative motion of the centres
-  // along the normal (exact for translation: the distance is then convex in t) plus the fastest
-  // any point can swing about its centre.
+  // along the normal (exact for translation: the signed distance, negative in overlap, is then
+  // convex in t) plus the fastest any point can swing about its centre.
   const FxVec2f closing_motion = (sweep_a.center1 - sweep_a.center0) - (sweep_b.center1 - sweep_b.center0);
   const float turning = sweep_a.max_turn_rate() * reach(a, sweep_a.local_center) +
                         sweep_b.max_turn_rate() * reach(b, sweep_b.local_center);
-  const float done = target + tolerance_share * target;
+  const float tolerance = tolerance_share * target;
+  Separation separation = shape_separation(a, sweep_a.at(0.0f), b, sweep_b.at(0.0f));
+  // Shapes that start closer than two targets may close by one target more: a body that turns
+  // about the point it touches keeps its distance until the rest of it comes round, and stops there.
+  const float stop_at = std::min(target, separation.distance - target);
+  TimeOfImpact impact{1.0f, separation.distance < target + tolerance};
   float t = 0.0f;
   for (int iteration = 0; iteration < max_iterations; ++iteration) {
-    const Separation separation = shape_separation(a, sweep_a.at(t), b, sweep_b.at(t));
-    if (separation.distance < done) return t;
+    if (separation.distance < stop_at + tolerance) break;
     const float closing_speed = dot(closing_motion, separation.normal) + turning;
-    if (closing_speed <= 0.0f) return 1.0f;
-    t += (separation.distance - target) / closing_speed;
-    if (t >= 1.0f) return 1.0f;
+    if (closing_speed <= 0.0f) return impact;
+    t += (separation.distance - stop_at) / closing_speed;
+    if (t >= 1.0f) return impact;
+    separation = shape_separation(a, sweep_a.at(t), b, sweep_b.at(t));
   }
-  return t;
+  impact.fraction = t;
+  return impact;
 }
 
 }  // namespace fx2d::detail
