@@ -92,6 +92,30 @@ TEST(ContinuousCollision, SpinningThinPlankAtManySpeedsDoesNotPassAThinWall) {
   }
 }
 
+// The wall comes towards the plank: in the step the plank reaches it, the wall has moved out of
+// the box the broad phase's tree holds for it (the tree moves it in the next step), and a sweep
+// that looked only within its own box did not find it (the plank passed, at step 4).
+TEST(ContinuousCollision, PlankDoesNotPassAMovingKinematicWall) {
+  FxScene scene;
+  FxEntityDef wall;
+  wall.type = FxBodyType::kinematic;
+  wall.shape = FxShape::box(wall_half_thickness, 10.0f);
+  wall.position = {10.0f, 0.0f};
+  wall.linear_velocity = {-20.0f, 0.0f};
+  const auto moving_wall = scene.create_entity(wall);
+  FxEntityDef def;
+  def.shape = FxShape::box(1.0f, 0.01f);
+  def.position = {-25.0f, 0.5f};
+  def.angle = 1.5f;
+  def.linear_velocity = {483.0f, 0.0f};
+  def.angular_velocity = 40.0f;
+  const auto plank = scene.create_entity(def);
+  for (int i = 0; i < 30; ++i) {
+    scene.step();
+    ASSERT_LT(plank->position().x, moving_wall->position().x) << "through the wall at step " << i;
+  }
+}
+
 TEST(ContinuousCollision, SmallFastBoxLandsOnAThinFloor) {
   FxScene scene;
   const float floor_top = 0.01f;

@@ -46,8 +46,10 @@ bool sweeps_against(const BodyRecord& other, bool bullet_pass) {
 class FastBodyPass {
  public:
   // A fast body stops `gap` short of touching, so that the next step's contact has room to act.
-  FastBodyPass(float gap, std::span<FxBodyState> states, Bodies& bodies, const BroadPhase& broad, bool bullets)
-      : gap_(gap), states_(states), bodies_(bodies), broad_(broad), bullets_(bullets) {}
+  // `others_motion` bounds how far any body it is swept against moved this step.
+  FastBodyPass(float gap, float others_motion, std::span<FxBodyState> states, Bodies& bodies, const BroadPhase& broad,
+               bool bullets)
+      : gap_(gap), others_motion_(others_motion), states_(states), bodies_(bodies), broad_(broad), bullets_(bullets) {}
 
   void advance(std::uint32_t body) {
     const Sweep sweep = sweep_of(bodies_, states_, body, FxVec2f{});
@@ -64,13 +66,15 @@ class FastBodyPass {
     Sweep other_sweep;
   };
 
-  // The box the body's shape covers at the step's start and at its end.
+  // The box the body's shape covers at the step's start and at its end, grown by how far the
+  // others moved: the tree holds their boxes as of the step's start (the next step's broad phase
+  // moves them), so a body that moved into the sweep during the step is found only so.
   FxAABB swept_box(std::uint32_t body, const Sweep& sweep) const {
     const BodySim& sim = bodies_.sims[body];
     const FxTransform start = sweep.at(0.0f);
     FxAABB box;
     bodies_.records[body].shape.compute_aabb(FxTransform{sim.origin + start.p, start.q}, box);
-    return union_of(box, sim.aabb);
+    return inflate(union_of(box, sim.aabb), others_motion_);
   }
 
   // The earliest impact of `body` on a body it is swept against; fraction 1 when there is none.
@@ -128,11 +132,24 @@ class FastBodyPass {
   }
 
   float gap_;
+  float others_motion_;
   std::span<FxBodyState> states_;
   Bodies& bodies_;
   const BroadPhase& broad_;
   bool bullets_;
 };
+
+// The farthest any point of a moving body that a pass sweeps against moved this step.
+float others_motion(std::span<const FxBodyState> states, std::span<const std::uint32_t> moving, const Bodies& bodies,
+                    bool bullet_pass) {
+  float farthest = 0.0f;
+  for (const std::uint32_t body : moving) {
+    const BodyRecord& record = bodies.records[body];
+    if (!sweeps_against(record, bullet_pass)) continue;
+    farthest = std::max(farthest, step_motion(states[body], reach(record.shape, bodies.sims[body].local_center)));
+  }
+  return farthest;
+}
 
 }  // namespace
 
@@ -157,9 +174,12 @@ void solve_continuous(const StepContext& step, ContinuousScratch& scratch, std::
   }
   // Bullets go second, against the motion the first pass left the other bodies.
   for (const bool bullets : {false, true}) {
-    FastBodyPass pass(step.settings.linear_slop, states, bodies, broad, bullets);
+    const auto in_pass = [&](std::uint32_t body) { return bodies.records[body].bullet == bullets; };
+    if (std::none_of(fast.begin(), fast.end(), in_pass)) continue;
+    FastBodyPass pass(step.settings.linear_slop, others_motion(states, moving, bodies, bullets), states, bodies, broad,
+                      bullets);
     for (const std::uint32_t body : fast) {
-      if (bodies.records[body].bullet == bullets) pass.advance(body);
+      if (in_pass(body)) pass.advance(body);
     }
   }
 }
