@@ -155,6 +155,47 @@ TEST(ContinuousCollision, RandomFastBodiesDoNotPassAThinWall) {
   }
 }
 
+// Random fast bodies thrown at a spinning kinematic bar (6 m long, 40-140 mm thick, up to
+// 20 rad/s either way), weightless. A body that lands on the bar is carried round and may spin too
+// fast for its contact to hold it; the check is that its centre never crosses the bar's centre
+// line (in the bar's frame) within the bar's length. 53 of these 300 crossed when a sweep that
+// began in contact returned 0, and 11 while such a sweep could close by one target every step.
+TEST(ContinuousCollision, RandomFastBodiesDoNotPassASpinningKinematicBar) {
+  std::mt19937 generator(21);
+  const auto uniform = [&generator] { return static_cast<float>(generator() >> 8) * 0x1p-24f; };
+  constexpr float bar_half_length = 3.0f;
+  for (int run = 0; run < 300; ++run) {
+    FxScene scene(weightless());
+    FxEntityDef bar_def;
+    bar_def.type = FxBodyType::kinematic;
+    bar_def.shape = FxShape::box(bar_half_length, 0.02f + 0.05f * uniform());
+    bar_def.angular_velocity = 40.0f * (uniform() - 0.5f);
+    const auto bar = scene.create_entity(bar_def);
+    const float half_length = 0.05f + uniform();
+    const float half_thickness = 0.005f + 0.05f * uniform();
+    FxEntityDef def;
+    def.shape = uniform() < 0.3f ? FxShape::circle(half_thickness + 0.01f) : FxShape::box(half_length, half_thickness);
+    const float bearing = 6.28f * uniform();
+    def.position = {25.0f * std::cos(bearing), 25.0f * std::sin(bearing)};
+    def.angle = 6.28f * uniform();
+    const float speed = 50.0f + 940.0f * uniform();
+    const float aim = bearing + 3.14159f + 0.1f * (uniform() - 0.5f);
+    def.linear_velocity = {speed * std::cos(aim), speed * std::sin(aim)};
+    def.angular_velocity = 400.0f * (uniform() - 0.5f);
+    const auto body = scene.create_entity(def);
+    const auto in_bar_frame = [&] { return inv_rotate(bar->rotation(), body->position() - bar->position()); };
+    FxVec2f before = in_bar_frame();
+    for (int i = 0; i < 60; ++i) {
+      scene.step();
+      const FxVec2f after = in_bar_frame();
+      const bool crossed = (before.y < 0.0f) != (after.y < 0.0f);
+      const bool along_bar = std::abs(before.x) < bar_half_length && std::abs(after.x) < bar_half_length;
+      ASSERT_FALSE(crossed && along_bar) << "run " << run << " through the bar at step " << i;
+      before = after;
+    }
+  }
+}
+
 TEST(ContinuousCollision, SmallFastBoxLandsOnAThinFloor) {
   FxScene scene;
   const float floor_top = 0.01f;

@@ -124,6 +124,18 @@ Separation polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& b,
   return closest.separation(0.0f);
 }
 
+// How close the advance may bring two shapes that are `start` apart when the step begins: the
+// target; shapes that start within two targets, one target closer than they start (a body that
+// turns about the point it touches keeps its distance until the rest of it comes round, and is
+// stopped there); but never deeper into overlap than one target, or than they start less the
+// tolerance: else a body its contact cannot push out (one that spins too fast for the contact's
+// points to hold) would sink one target deeper every step until it passed.
+float closest_allowed(float start, float target, float tolerance) {
+  const float closer_than_start = std::min(target, start - target);
+  const float deepest = std::min(start, -target) - tolerance;
+  return std::max(closer_than_start, deepest);
+}
+
 }  // namespace
 
 float reach(const FxShape& shape, FxVec2f local_center) { return shape.extent() + distance(shape.centroid(), local_center); }
@@ -171,9 +183,7 @@ TimeOfImpact time_of_impact(const FxShape& a, const Sweep& sweep_a, const FxShap
                         sweep_b.max_turn_rate() * reach(b, sweep_b.local_center);
   const float tolerance = tolerance_share * target;
   Separation separation = shape_separation(a, sweep_a.at(0.0f), b, sweep_b.at(0.0f));
-  // Shapes that start closer than two targets may close by one target more: a body that turns
-  // about the point it touches keeps its distance until the rest of it comes round, and stops there.
-  const float stop_at = std::min(target, separation.distance - target);
+  const float stop_at = closest_allowed(separation.distance, target, tolerance);
   TimeOfImpact impact{1.0f, separation.distance < target + tolerance};
   float t = 0.0f;
   for (int iteration = 0; iteration < max_iterations; ++iteration) {
