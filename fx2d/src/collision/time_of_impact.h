@@ -51,10 +51,10 @@ struct TimeOfImpact {
 // The first fraction of the step at which the shapes come within `target` metres (to a quarter
 // of it), or 1 when they do not in this step. Shapes that start within two targets may come one
 // target closer than they started (into overlap, measured by the deepest separating axis), but
-// not deeper than one target or than they started: their contact keeps them apart, but a body
-// that turns about the point it touches is still stopped before the rest of it passes in. The
-// fraction is never 0. If the advance has not converged
-// after a bounded number of iterations the fraction reached is returned: it is still early.
+// not deeper than one target or than they started (less the tolerance): their contact keeps them
+// apart, but a body that turns about the point it touches is still stopped before the rest of it
+// passes in. If the advance has not converged after a bounded number of iterations the fraction
+// reached is returned: it is still early.
 TimeOfImpact time_of_impact(const FxShape& a, const Sweep& sweep_a, const FxShape& b, const Sweep& sweep_b,
                             float target);
 
