@@ -16,9 +16,6 @@ namespace {
 // extent: less cannot carry it past anything before the contact it makes pushes back (Box2D's
 // safety factor).
 constexpr float fast_share = 0.5f;
-// The core of a body, the part kept from passing through what it already touches, is a circle of
-// this share of its inner extent.
-constexpr float core_share = 0.25f;
 
 // A bound on how far any point of a body moved in the step `state` records.
 float step_motion(const FxBodyState& state, float body_reach) {
@@ -49,8 +46,10 @@ bool sweeps_against(const BodyRecord& other, bool bullet_pass) {
 class FastBodyPass {
  public:
   // A fast body stops `gap` short of touching, so that the next step's contact has room to act.
-  FastBodyPass(float gap, std::span<FxBodyState> states, Bodies& bodies, const BroadPhase& broad, bool bullets)
-      : gap_(gap), states_(states), bodies_(bodies), broad_(broad), bullets_(bullets) {}
+  // `others_motion` bounds how far any body it is swept against moved this step.
+  FastBodyPass(float gap, float others_motion, std::span<FxBodyState> states, Bodies& bodies, const BroadPhase& broad,
+               bool bullets)
+      : gap_(gap), others_motion_(others_motion), states_(states), bodies_(bodies), broad_(broad), bullets_(bullets) {}
 
   void advance(std::uint32_t body) {
     const Sweep sweep = sweep_of(bodies_, states_, body, FxVec2f{});
@@ -62,22 +61,20 @@ class FastBodyPass {
   // The first body hit, when, and its motion in the frame of the body that hit it.
   struct Impact {
     float fraction = 1.0f;
+    bool from_contact = false;
     std::uint32_t other = 0;
     Sweep other_sweep;
   };
 
-  // The box the body's shape covers at the step's start and at its end.
+  // The box the body's shape covers at the step's start and at its end, grown by how far the
+  // others moved: the tree holds their boxes as of the step's start (the next step's broad phase
+  // moves them), so a body that moved into the sweep during the step is found only so.
   FxAABB swept_box(std::uint32_t body, const Sweep& sweep) const {
     const BodySim& sim = bodies_.sims[body];
     const FxTransform start = sweep.at(0.0f);
     FxAABB box;
     bodies_.records[body].shape.compute_aabb(FxTransform{sim.origin + start.p, start.q}, box);
-    return union_of(box, sim.aabb);
-  }
-
-  FxShape core_of(std::uint32_t body) const {
-    const BodyRecord& record = bodies_.records[body];
-    return FxShape::circle(core_share * record.inner_extent, record.shape.centroid());
+    return inflate(union_of(box, sim.aabb), others_motion_);
   }
 
   // The earliest impact of `body` on a body it is swept against; fraction 1 when there is none.
@@ -90,13 +87,10 @@ class FastBodyPass {
       const BodyRecord& record = bodies_.records[other];
       if (other == body || !sweeps_against(record, bullets_) || broad_.jointed(body, other)) return true;
       const Sweep other_sweep = sweep_of(bodies_, states_, other, bodies_.origin_offset(body, other));
-      float fraction = time_of_impact(shape, sweep, record.shape, other_sweep, gap_);
-      // 0: the two were that close when the step began. Their contact holds them apart, but a body
-      // that turns fast can still swing through about the point it touches: its core, a circle
-      // at its centroid, is kept from passing (as Box2D v3.1 does).
-      if (fraction == 0.0f) fraction = time_of_impact(core_of(body), sweep, record.shape, other_sweep, gap_);
+      const TimeOfImpact impact = time_of_impact(shape, sweep, record.shape, other_sweep, gap_);
+      const float fraction = impact.fraction;
       const bool earlier = fraction < earliest.fraction || (fraction == earliest.fraction && other < earliest.other);
-      if (fraction > 0.0f && fraction < 1.0f && earlier) earliest = {fraction, other, other_sweep};
+      if (fraction < 1.0f && earlier) earliest = {fraction, impact.from_contact, other, other_sweep};
       return true;
     });
     return earliest;
@@ -119,14 +113,43 @@ class FastBodyPass {
     state.delta_rotation = inv_mul(sweep.rotation0, carried.q);
     record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
     broad_.refresh(record, sim.aabb);
+    if (impact.from_contact) {
+      const Separation at_contact = shape_separation(record.shape, at_impact, bodies_.records[impact.other].shape,
+                                                     hit_at_impact);
+      stop_approach(body, impact.other, at_contact.normal);
+    }
+  }
+
+  // Takes from `body`'s velocity what carries its centre towards a body it already touched, along
+  // the normal where the sweep stopped it. The contact left that approach (a first impact's is the
+  // next step's contact to answer, with spin and momentum to share); kept, it would stop a body that
+  // turns about the point it touches early in every step (its sweep takes the centre on a straight
+  // line, not on the arc about that point), and the body would never move on.
+  void stop_approach(std::uint32_t body, std::uint32_t other, FxVec2f normal) {
+    FxVec2f& velocity = bodies_.sims[body].linear_velocity;
+    const float approach = dot(velocity - bodies_.sims[other].linear_velocity, normal);
+    if (approach > 0.0f) velocity -= approach * normal;
   }
 
   float gap_;
+  float others_motion_;
   std::span<FxBodyState> states_;
   Bodies& bodies_;
   const BroadPhase& broad_;
   bool bullets_;
 };
+
+// The farthest any point of a moving body that a pass sweeps against moved this step.
+float others_motion(std::span<const FxBodyState> states, std::span<const std::uint32_t> moving, const Bodies& bodies,
+                    bool bullet_pass) {
+  float farthest = 0.0f;
+  for (const std::uint32_t body : moving) {
+    const BodyRecord& record = bodies.records[body];
+    if (!sweeps_against(record, bullet_pass)) continue;
+    farthest = std::max(farthest, step_motion(states[body], reach(record.shape, bodies.sims[body].local_center)));
+  }
+  return farthest;
+}
 
 }  // namespace
 
@@ -151,9 +174,12 @@ void solve_continuous(const StepContext& step, ContinuousScratch& scratch, std::
   }
   // Bullets go second, against the motion the first pass left the other bodies.
   for (const bool bullets : {false, true}) {
-    FastBodyPass pass(step.settings.linear_slop, states, bodies, broad, bullets);
+    const auto in_pass = [&](std::uint32_t body) { return bodies.records[body].bullet == bullets; };
+    if (std::none_of(fast.begin(), fast.end(), in_pass)) continue;
+    FastBodyPass pass(step.settings.linear_slop, others_motion(states, moving, bodies, bullets), states, bodies, broad,
+                      bullets);
     for (const std::uint32_t body : fast) {
-      if (bodies.records[body].bullet == bullets) pass.advance(body);
+      if (in_pass(body)) pass.advance(body);
     }
   }
 }

@@ -8,7 +8,9 @@
 // bullet) is also swept, afterwards, against the dynamic bodies that are not bullets, along their
 // motion of the step as the first pass left it. Each fast body reads only bodies that the pass it
 // is in does not move, so the result does not depend on the order the fast bodies are taken in.
-// The body keeps its velocity: the next step's contact stops it.
+// A body stopped at a first impact keeps its velocity: the next step's contact stops it. A body
+// stopped by what it already touched at the step's start (it turned about the point it touched)
+// loses its centre's approach along the normal there: that contact already had its step.
 #pragma once
 
 #include <cstdint>
@@ -35,7 +37,8 @@ struct ContinuousScratch {
 float inner_extent(const FxShape& shape);
 
 // Stage: moves each fast body in `moving` back to its pose at its first time of impact, if any,
-// linear_slop short of touching, and rewrites its displacement in `states` to the motion it kept.
+// linear_slop short of touching (or, if it began within that, linear_slop closer than it began),
+// and rewrites its displacement in `states` to the motion it kept.
 void solve_continuous(const StepContext& step, ContinuousScratch& scratch, std::span<FxBodyState> states,
                       std::span<const std::uint32_t> moving, Bodies& bodies, const BroadPhase& broad);
 

@@ -124,6 +124,18 @@ Separation polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& b,
   return closest.separation(0.0f);
 }
 
+// How close the advance may bring two shapes that are `start` apart when the step begins: the
+// target; shapes that start within two targets, one target closer than they start (a body that
+// turns about the point it touches keeps its distance until the rest of it comes round, and is
+// stopped there); but never deeper into overlap than one target, or than they start less the
+// tolerance: else a body its contact cannot push out (one that spins too fast for the contact's
+// points to hold) would sink one target deeper every step until it passed.
+float closest_allowed(float start, float target, float tolerance) {
+  const float closer_than_start = std::min(target, start - target);
+  const float deepest = std::min(start, -target) - tolerance;
+  return std::max(closer_than_start, deepest);
+}
+
 }  // namespace
 
 float reach(const FxShape& shape, FxVec2f local_center) { return shape.extent() + distance(shape.centroid(), local_center); }
@@ -161,24 +173,29 @@ Separation shape_separation(const FxShape& a, const FxTransform& xf_a, const FxS
   return polygons(a, xf_a, b, xf_b);
 }
 
-float time_of_impact(const FxShape& a, const Sweep& sweep_a, const FxShape& b, const Sweep& sweep_b, float target) {
+TimeOfImpact time_of_impact(const FxShape& a, const Sweep& sweep_a, const FxShape& b, const Sweep& sweep_b,
+                            float target) {
   // The distance between the shapes shrinks no faster than the relative motion of the centres
-  // along the normal (exact for translation: the distance is then convex in t) plus the fastest
-  // any point can swing about its centre.
+  // along the normal (exact for translation: the signed distance, negative in overlap, is then
+  // convex in t) plus the fastest any point can swing about its centre.
   const FxVec2f closing_motion = (sweep_a.center1 - sweep_a.center0) - (sweep_b.center1 - sweep_b.center0);
   const float turning = sweep_a.max_turn_rate() * reach(a, sweep_a.local_center) +
                         sweep_b.max_turn_rate() * reach(b, sweep_b.local_center);
-  const float done = target + tolerance_share * target;
+  const float tolerance = tolerance_share * target;
+  Separation separation = shape_separation(a, sweep_a.at(0.0f), b, sweep_b.at(0.0f));
+  const float stop_at = closest_allowed(separation.distance, target, tolerance);
+  TimeOfImpact impact{1.0f, separation.distance < target + tolerance};
   float t = 0.0f;
   for (int iteration = 0; iteration < max_iterations; ++iteration) {
-    const Separation separation = shape_separation(a, sweep_a.at(t), b, sweep_b.at(t));
-    if (separation.distance < done) return t;
+    if (separation.distance < stop_at + tolerance) break;
     const float closing_speed = dot(closing_motion, separation.normal) + turning;
-    if (closing_speed <= 0.0f) return 1.0f;
-    t += (separation.distance - target) / closing_speed;
-    if (t >= 1.0f) return 1.0f;
+    if (closing_speed <= 0.0f) return impact;
+    t += (separation.distance - stop_at) / closing_speed;
+    if (t >= 1.0f) return impact;
+    separation = shape_separation(a, sweep_a.at(t), b, sweep_b.at(t));
   }
-  return t;
+  impact.fraction = t;
+  return impact;
 }
 
 }  // namespace fx2d::detail

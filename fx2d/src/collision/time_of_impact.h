@@ -41,10 +41,21 @@ float reach(const FxShape& shape, FxVec2f local_center);
 
 Separation shape_separation(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b);
 
+// When two shapes first come within the target distance in a step, and whether they were already
+// that close when it began (in contact).
+struct TimeOfImpact {
+  float fraction = 1.0f;  // of the step; 1 when they do not
+  bool from_contact = false;
+};
+
 // The first fraction of the step at which the shapes come within `target` metres (to a quarter
-// of it), or 1 when they do not in this step. 0 when they are that close at the start: then the
-// contact that already exists keeps them apart. If the advance has not converged after a bounded
-// number of iterations the fraction reached is returned: it is still before any touch.
-float time_of_impact(const FxShape& a, const Sweep& sweep_a, const FxShape& b, const Sweep& sweep_b, float target);
+// of it), or 1 when they do not in this step. Shapes that start within two targets may come one
+// target closer than they started (into overlap, measured by the deepest separating axis), but
+// not deeper than one target or than they started (less the tolerance): their contact keeps them
+// apart, but a body that turns about the point it touches is still stopped before the rest of it
+// passes in. If the advance has not converged after a bounded number of iterations the fraction
+// reached is returned: it is still early.
+TimeOfImpact time_of_impact(const FxShape& a, const Sweep& sweep_a, const FxShape& b, const Sweep& sweep_b,
+                            float target);
 
 }  // namespace fx2d::detail
