@@ -109,7 +109,7 @@ struct BatchRun {
 // Batches per range of a colour spread over the workers, and the fewest batches a colour needs to
 // be spread at all (measured: see the commit that set them, and fx2d/src/README.md).
 inline constexpr std::uint32_t batches_per_block = 4;
-inline constexpr std::uint32_t min_parallel_batches = 32;
+inline constexpr std::uint32_t min_parallel_batches = 128;
 
 class ContactBatches {
  public:
