@@ -443,13 +443,11 @@ constexpr int max_runs = 2 * (ContactGraph::max_colours + 1);
 }  // namespace
 
 template <class Sweep>
-void ContactBatches::sweep_by_colour(bool scalar, const Tasks& tasks, const Sweep& sweep) {
-  // The scalar twin is a check of the lanes' arithmetic, and its lane-by-lane write-back of a
-  // shared static body would race: it stays on one thread.
-  if (scalar || !tasks.runs_in_parallel(widest_colour_, min_parallel_batches)) {
-    sweep(std::span<const BatchRun>(runs_), false);
-  } else {
+void ContactBatches::sweep_by_colour(const Tasks& tasks, const Sweep& sweep) {
+  if (spread_) {
     sweep_colours_apart(tasks, sweep);
+  } else {
+    sweep(std::span<const BatchRun>(runs_), false);
   }
 }
 
@@ -470,7 +468,7 @@ void ContactBatches::sweep_colours_apart(const Tasks& tasks, const Sweep& sweep)
 }
 
 void ContactBatches::warm_start(std::span<FxBodyState> states, bool scalar, const Tasks& tasks) {
-  sweep_by_colour(scalar, tasks, [&](std::span<const BatchRun> runs, bool shared) {
+  sweep_by_colour(tasks, [&](std::span<const BatchRun> runs, bool shared) {
     warm_start_runs(runs, batches_.data(), states.data(), scalar, shared);
   });
 }
@@ -478,14 +476,14 @@ void ContactBatches::warm_start(std::span<FxBodyState> states, bool scalar, cons
 void ContactBatches::push(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar,
                           const Tasks& tasks) {
   if (!any_deep_) return;
-  sweep_by_colour(scalar, tasks, [&](std::span<const BatchRun> runs, bool shared) {
+  sweep_by_colour(tasks, [&](std::span<const BatchRun> runs, bool shared) {
     push_runs(runs, batches_.data(), states.data(), params, scalar, shared, deep_.data());
   });
 }
 
 void ContactBatches::take_back_push(std::span<FxBodyState> states, bool scalar, const Tasks& tasks) {
   if (!any_deep_) return;
-  sweep_by_colour(scalar, tasks, [&](std::span<const BatchRun> runs, bool shared) {
+  sweep_by_colour(tasks, [&](std::span<const BatchRun> runs, bool shared) {
     take_back_push_runs(runs, batches_.data(), states.data(), scalar, shared, deep_.data());
   });
 }
@@ -493,7 +491,7 @@ void ContactBatches::take_back_push(std::span<FxBodyState> states, bool scalar, 
 void ContactBatches::update_separations(std::span<const FxBodyState> states, float slop, const Tasks& tasks) {
   // Spread when the passes are (a colour as wide as min_parallel_batches): a pile of 300 circles,
   // 66 batches in all, took 1.19x as long to relax with its separations spread over two workers.
-  if (tasks.runs_in_parallel(widest_colour_, min_parallel_batches)) {
+  if (spread_) {
     update_separations_apart(states, slop, tasks);
   } else {
     any_deep_ = update_run_separations(runs_, batches_.data(), states.data(), slop, deep_.data());
@@ -514,7 +512,7 @@ void ContactBatches::update_separations_apart(std::span<const FxBodyState> state
 
 void ContactBatches::resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias,
                                         bool scalar, const Tasks& tasks) {
-  sweep_by_colour(scalar, tasks, [&](std::span<const BatchRun> runs, bool shared) {
+  sweep_by_colour(tasks, [&](std::span<const BatchRun> runs, bool shared) {
     if (use_bias) {
       solve_runs_biased(runs, batches_.data(), states.data(), params, scalar, shared);
     } else {
