@@ -71,7 +71,7 @@ std::vector<float> state_of(const FxScene& scene) {
 // reuses its low slot; then boxes dropped onto columns wake them. A pair that wakes a body in the
 // narrow phase makes the sleeping pairs after it active in the same step, which the parallel
 // narrow phase must reproduce. 1200 boxes: past the thresholds of the narrow phase, the contact
-// constraints and the body loops (the contact passes spread only from a colour of 128 batches:
+// constraints and the body loops (the contact passes spread only from a colour of 256 batches:
 // wide_colours_state() below).
 std::vector<float> final_state(FxSceneSettings settings) {
   constexpr int columns = 100;
@@ -99,11 +99,11 @@ std::vector<float> final_state(FxSceneSettings settings) {
   return state_of(scene);
 }
 
-// 1100 columns of two boxes on the ground: two colours of 1100 contacts (138 batches each, past
+// 2100 columns of two boxes on the ground: two colours of 2100 contacts (263 batches each, past
 // min_parallel_batches), every lane of the first sharing the static ground, so the contact passes
 // spread colour by colour and their ranges all read the same static body.
 std::vector<float> wide_colours_state(FxSceneSettings settings) {
-  constexpr int columns = 1100;
+  constexpr int columns = 2100;
   constexpr float column_spacing = 1.5f;
   FxScene scene(settings);
   add_ground(scene, column_spacing * columns);
@@ -112,7 +112,7 @@ std::vector<float> wide_colours_state(FxSceneSettings settings) {
       add_box(scene, {column_spacing * static_cast<float>(column), 0.5f + static_cast<float>(level)});
     }
   }
-  for (int step = 0; step < 30; ++step) scene.step();
+  for (int step = 0; step < 15; ++step) scene.step();
   return state_of(scene);
 }
 

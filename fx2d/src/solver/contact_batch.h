@@ -108,7 +108,7 @@ struct BatchRun {
 
 // The fewest batches the widest colour needs for the passes to be spread over the workers at all
 // (measured: fx2d/src/README.md).
-inline constexpr std::uint32_t min_parallel_batches = 128;
+inline constexpr std::uint32_t min_parallel_batches = 256;
 
 class ContactBatches {
  public:
