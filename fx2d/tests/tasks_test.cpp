@@ -54,10 +54,25 @@ struct BackwardsScheduler {
   static void wait(void*, void*) {}
 };
 
+// Every entity's pose and velocity, in entity order.
+std::vector<float> state_of(const FxScene& scene) {
+  std::vector<float> state;
+  for (std::uint32_t i = 0; i < scene.entity_count(); ++i) {
+    const FxEntity& e = *scene.entity(i);
+    for (const float value : {e.position().x, e.position().y, e.rotation().c, e.rotation().s, e.linear_velocity().x,
+                              e.linear_velocity().y, e.angular_velocity()}) {
+      state.push_back(value);
+    }
+  }
+  return state;
+}
+
 // Columns of boxes fall asleep; a box of one column is removed early so that a later contact
 // reuses its low slot; then boxes dropped onto columns wake them. A pair that wakes a body in the
 // narrow phase makes the sleeping pairs after it active in the same step, which the parallel
-// narrow phase must reproduce. 1200 boxes: past every threshold of the parallel loops.
+// narrow phase must reproduce. 1200 boxes: past the thresholds of the narrow phase, the contact
+// constraints and the body loops (the contact passes spread only from a colour of 256 batches:
+// wide_colours_state() below).
 std::vector<float> final_state(FxSceneSettings settings) {
   constexpr int columns = 100;
   constexpr int boxes_per_column = 12;
@@ -81,28 +96,44 @@ std::vector<float> final_state(FxSceneSettings settings) {
     scene.create_entity(def);
   }
   for (int step = 0; step < 60; ++step) scene.step();
-  std::vector<float> state;
-  for (std::uint32_t i = 0; i < scene.entity_count(); ++i) {
-    const FxEntity& e = *scene.entity(i);
-    for (const float value : {e.position().x, e.position().y, e.rotation().c, e.rotation().s, e.linear_velocity().x,
-                              e.linear_velocity().y, e.angular_velocity()}) {
-      state.push_back(value);
+  return state_of(scene);
+}
+
+// 2100 columns of two boxes on the ground: two colours of 2100 contacts (263 batches each, past
+// min_parallel_batches), every lane of the first sharing the static ground, so the contact passes
+// spread colour by colour and their ranges all read the same static body.
+std::vector<float> wide_colours_state(FxSceneSettings settings) {
+  constexpr int columns = 2100;
+  constexpr float column_spacing = 1.5f;
+  FxScene scene(settings);
+  add_ground(scene, column_spacing * columns);
+  for (int column = 0; column < columns; ++column) {
+    for (int level = 0; level < 2; ++level) {
+      add_box(scene, {column_spacing * static_cast<float>(column), 0.5f + static_cast<float>(level)});
     }
   }
-  return state;
+  for (int step = 0; step < 15; ++step) scene.step();
+  return state_of(scene);
 }
 
 bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
-TEST(Threads, WakingColumnsEndInTheSameBitsOnEveryWorkerCount) {
-  const std::vector<float> serial = final_state({});
+// A scene's final state at 2, 3 and 8 workers, each against one worker's.
+void expect_same_bits_on_every_worker_count(std::vector<float> (*scene_state)(FxSceneSettings)) {
+  const std::vector<float> serial = scene_state({});
   for (const int workers : {2, 3, 8}) {
     FxSceneSettings settings;
     settings.workers = workers;
-    EXPECT_TRUE(same_bits(final_state(settings), serial)) << workers << " workers";
+    EXPECT_TRUE(same_bits(scene_state(settings), serial)) << workers << " workers";
   }
+}
+
+TEST(Threads, WakingColumnsEndInTheSameBitsOnEveryWorkerCount) { expect_same_bits_on_every_worker_count(&final_state); }
+
+TEST(Threads, WideColoursSpreadOverWorkersEndInTheSameBitsOnEveryWorkerCount) {
+  expect_same_bits_on_every_worker_count(&wide_colours_state);
 }
 
 TEST(Threads, AUsersSchedulerRunningRangesBackwardsGivesTheSameBits) {
@@ -111,6 +142,7 @@ TEST(Threads, AUsersSchedulerRunningRangesBackwardsGivesTheSameBits) {
   settings.workers = 2;
   settings.scheduler = {&BackwardsScheduler::enqueue, &BackwardsScheduler::wait, &backwards};
   EXPECT_TRUE(same_bits(final_state(settings), final_state({})));
+  EXPECT_TRUE(same_bits(wide_colours_state(settings), wide_colours_state({})));
   EXPECT_GT(backwards.tasks_run, 0) << "the scene never used the user's scheduler";
 }
 

@@ -106,18 +106,19 @@ struct BatchRun {
   bool serial = false;  // overflow: lanes may share bodies
 };
 
-// Batches per range of a colour spread over the workers, and the fewest batches a colour needs to
-// be spread at all (measured: see the commit that set them, and fx2d/src/README.md).
-inline constexpr std::uint32_t batches_per_block = 4;
-inline constexpr std::uint32_t min_parallel_batches = 32;
+// The fewest batches the widest colour needs for the passes to be spread over the workers at all
+// (measured: fx2d/src/README.md).
+inline constexpr std::uint32_t min_parallel_batches = 256;
 
 class ContactBatches {
  public:
   // Grows storage for this many constraints, so pack() does not allocate up to there.
   void reserve(std::size_t constraints);
   // Packs the constraints colour by colour. `padding_body` indexes a state that is never read
-  // back (one past the last body).
-  void pack(std::span<const ContactConstraint> constraints, const ContactGraph& graph, std::uint32_t padding_body);
+  // back (one past the last body). Decides, for the step, whether the passes spread over `tasks`
+  // (never with `scalar`, the lane-by-lane twin).
+  void pack(std::span<const ContactConstraint> constraints, const ContactGraph& graph, std::uint32_t padding_body,
+            const Tasks& tasks, bool scalar);
   // With `scalar`, every batch is solved lane by lane (the scalar twin), on the stepping thread;
   // the result is the same. `tasks` spreads each colour's batches over the workers.
   void warm_start(std::span<FxBodyState> states, bool scalar, const Tasks& tasks);
@@ -142,11 +143,11 @@ class ContactBatches {
   void add_runs(std::span<const ContactConstraint> constraints, std::span<const int> members, bool serial,
                 std::uint32_t padding_body);
   // Calls sweep(runs, shared) over every run: at once on this thread (shared false), or, when
-  // some colour is wide enough to spread, colour by colour over the workers on ranges of runs cut
+  // pack() chose to spread, colour by colour over the workers on ranges of runs cut
   // to whole batches (shared true: only movable bodies may be written back), then the overflow on
   // this thread. The sweep over a colour's ranges returns before the next colour starts.
   template <class Sweep>
-  void sweep_by_colour(bool scalar, const Tasks& tasks, const Sweep& sweep);
+  void sweep_by_colour(const Tasks& tasks, const Sweep& sweep);
   // The spread halves of sweep_by_colour() and update_separations(), kept out of line so that
   // the one-thread path stays as short as it was before threads.
   template <class Sweep>
@@ -158,7 +159,7 @@ class ContactBatches {
   // Colour c's runs are runs_[first_run_[c], first_run_[c + 1]); the overflow's follow them.
   int first_run_[ContactGraph::max_colours + 1] = {};
   int colour_count_ = 0;
-  std::uint32_t widest_colour_ = 0;  // batches in the colour with the most
+  bool spread_ = false;  // whether this step's passes spread over the workers
   // Per batch: whether a point of it was deeper than the slop at the last update_separations().
   std::vector<std::uint8_t> deep_;
   bool any_deep_ = false;

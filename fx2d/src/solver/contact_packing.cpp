@@ -103,19 +103,22 @@ void ContactBatches::reserve(std::size_t constraints) {
 }
 
 void ContactBatches::pack(std::span<const ContactConstraint> constraints, const ContactGraph& graph,
-                          std::uint32_t padding_body) {
+                          std::uint32_t padding_body, const Tasks& tasks, bool scalar) {
   batches_.clear();
   runs_.clear();
   colour_count_ = graph.colour_count();
-  widest_colour_ = 0;
+  std::uint32_t widest_colour = 0;
   for (int colour = 0; colour < colour_count_; ++colour) {
     first_run_[colour] = static_cast<int>(runs_.size());
     const auto first_batch = batches_.size();
     add_runs(constraints, graph.members(colour), false, padding_body);
-    widest_colour_ = std::max(widest_colour_, static_cast<std::uint32_t>(batches_.size() - first_batch));
+    widest_colour = std::max(widest_colour, static_cast<std::uint32_t>(batches_.size() - first_batch));
   }
   first_run_[colour_count_] = static_cast<int>(runs_.size());
   add_runs(constraints, graph.members(ContactGraph::overflow), true, padding_body);
+  // The scalar twin is a check of the lanes' arithmetic, and its lane-by-lane write-back of a
+  // shared static body would race: it stays on one thread.
+  spread_ = !scalar && tasks.runs_in_parallel(widest_colour, min_parallel_batches);
   deep_.assign(batches_.size(), 0);
   any_deep_ = false;
 }

@@ -58,7 +58,7 @@ struct ContactSolveParams {
 // Constraints per range of a prepare() spread over the workers, and the fewest touching contacts
 // worth spreading it for (measured: see fx2d/src/README.md).
 inline constexpr std::uint32_t constraints_per_block = 64;
-inline constexpr std::uint32_t min_parallel_constraints = 1024;
+inline constexpr std::uint32_t min_parallel_constraints = 128;
 
 class ContactSolver {
  public:

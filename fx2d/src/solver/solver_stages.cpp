@@ -147,7 +147,8 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
 void colour_and_pack(const StepContext& step, SolverData& solver) {
   const std::vector<ContactConstraint>& constraints = solver.contact_solver.constraints;
   solver.contact_graph.build(constraints, solver.movable);
-  solver.contact_batches.pack(constraints, solver.contact_graph, step.body_count);
+  solver.contact_batches.pack(constraints, solver.contact_graph, step.body_count, step.tasks,
+                              step.settings.force_scalar_solver);
   solver.contact_batches.update_separations(solver.states, step.contact.linear_slop, step.tasks);
 }
 

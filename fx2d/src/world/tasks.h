@@ -68,6 +68,8 @@ class Tasks {
   // (Re)starts the pool when the worker count or the scheduler changed; a step never calls this.
   void configure(const FxSceneSettings& settings);
 
+  int workers() const { return workers_; }
+
   // Whether for_each_range() spreads this many items over threads.
   bool runs_in_parallel(std::uint32_t item_count, std::uint32_t min_parallel) const {
     return workers_ > 1 && item_count >= min_parallel;
