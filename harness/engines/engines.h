@@ -14,6 +14,8 @@ std::unique_ptr<Engine> make_fx2d_engine();
 // The built-in Fx2D's registry entry: its plugin table's name, knobs and capabilities.
 EngineInfo fx2d_engine_info();
 std::unique_ptr<Engine> make_box2d_engine();
+// The built-in Box2D's registry entry: its linked-in plugin table's name, knobs and capabilities.
+EngineInfo box2d_engine_info();
 std::unique_ptr<Engine> make_ode_engine();
 
 // No polygons: ODE 0.16's convex-box collider yields one contact point, so a polygon cannot rest

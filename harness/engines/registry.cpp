@@ -34,15 +34,7 @@ std::string built_plugin(const std::string& file) {
 std::span<const EngineInfo> engine_registry() {
   static const std::vector<EngineInfo> engines = [] {
     std::vector<EngineInfo> all{fx2d_engine_info()};
-    all.push_back({"box2d",
-                   FX2D_BENCH_BOX2D_VERSION,
-                   "b2World::Step with box2d.velocity_iterations and box2d.position_iterations, sleeping per "
-                   "box2d.sleeping; one friction (the dynamic one)",
-                   &make_box2d_engine,
-                   "box2d",
-                   EngineCapabilities{},
-                   {},
-                   {}});
+    all.push_back(box2d_engine_info());
     all.push_back(
         {"ode",
          FX2D_BENCH_ODE_VERSION,

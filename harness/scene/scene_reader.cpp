@@ -40,11 +40,11 @@ MaterialSpec read_material(ObjectReader& parent, const MaterialSpec& inherited) 
   return material;
 }
 
-// The blocks whose values the format reads itself (Box2dSettings, OdeSettings); every other block,
-// Fx2D's included, holds an engine's knobs.
-const std::vector<std::string> kReadBlocks{"box2d", "ode"};
+// The block whose values the format reads itself (OdeSettings); every other block, Fx2D's and
+// Box2D's included, holds an engine's knobs.
+const std::vector<std::string> kReadBlocks{"ode"};
 
-// An engine's block of knobs (Fx2D's, or a plugin engine's): an object of numbers and true/false
+// An engine's block of knobs (Fx2D's, Box2D's, or a plugin engine's): an object of numbers and true/false
 // under the engine's name, kept as given; the engine checks it against its knobs (engines/engine.h,
 // knob_values) when a command selects it, the one check of its values. A name a typo away from one
 // of the format's own blocks is that typo, refused.
@@ -68,33 +68,24 @@ void read_knob_blocks(ObjectReader& solver, const Json& blocks) {
   }
 }
 
-// Three keys of Fx2D's block that the format wrote into every resolved scene before Fx2D declared
-// knobs, still written when left out (at Fx2D's defaults) so that a scene's resolved form names
-// its schedule (scenes/README.md). Their
-// values are checked by Fx2D's knobs, as the block's others are.
-void record_fx2d_defaults(ObjectReader& solver) {
-  ObjectReader fx2d(solver.errors(), solver.slot("fx2d", Json::object()), solver.at("fx2d"));
-  fx2d.slot("substeps", 12);
-  fx2d.slot("velocity_passes", 2);
-  fx2d.slot("sleeping", true);
+// Keys of Fx2D's and Box2D's blocks that the format wrote into every resolved scene before those
+// engines declared knobs, still written when left out (at the engines' defaults) so that a scene's
+// resolved form names its schedule and keeps its hash (scenes/README.md). Their values are checked
+// by the engine's knobs, as the block's others are.
+void record_defaults(ObjectReader& solver, const std::string& engine, const Json& defaults) {
+  ObjectReader block(solver.errors(), solver.slot(engine, Json::object()), solver.at(engine));
+  for (const auto& [key, value] : defaults.items()) block.slot(key, value);
 }
 
 void read_solver(ObjectReader& scene, SceneSpec& spec) {
   Json& blocks = scene.slot("solver", Json::object());
   ObjectReader solver(scene.errors(), blocks, scene.at("solver"));
   constexpr Range kPasses{1.0, 1000.0};
-  constexpr Range kPassesOrNone{0.0, 1000.0};
 
   read_knob_blocks(solver, blocks);
-  record_fx2d_defaults(solver);
-
-  ObjectReader box2d(solver.errors(), solver.slot("box2d", Json::object()), solver.at("box2d"));
-  spec.box2d.velocity_iterations =
-      box2d.integer("velocity_iterations", Box2dSettings{}.velocity_iterations, kPasses);
-  spec.box2d.position_iterations =
-      box2d.integer("position_iterations", Box2dSettings{}.position_iterations, kPassesOrNone);
-  spec.box2d.sleeping = box2d.boolean("sleeping", Box2dSettings{}.sleeping);
-  box2d.finish();
+  record_defaults(solver, "fx2d", {{"substeps", 12}, {"velocity_passes", 2}, {"sleeping", true}});
+  record_defaults(solver, "box2d",
+                  {{"velocity_iterations", 8}, {"position_iterations", 3}, {"sleeping", true}});
 
   ObjectReader ode(solver.errors(), solver.slot("ode", Json::object()), solver.at("ode"));
   spec.ode.iterations = ode.integer("iterations", OdeSettings{}.iterations, kPasses);

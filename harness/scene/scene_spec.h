@@ -53,12 +53,6 @@ struct JointSpec {
   double length = -1.0;             // distance joint: rest length; < 0 means "as built"
 };
 
-struct Box2dSettings {
-  int velocity_iterations = 8;
-  int position_iterations = 3;
-  bool sleeping = true;
-};
-
 struct OdeSettings {
   int iterations = 20;
   double erp = 0.2;
@@ -69,9 +63,9 @@ struct OdeSettings {
 // Which accuracy figure a scene is judged by in speed-versus-accuracy charts.
 enum class PrimaryMetric { penetration, displacement };
 
-// The /solver blocks the scene format defines: Box2D's and ODE's, read into the two structs above,
-// and Fx2D's, whose values are Fx2D's knobs, checked by that engine (engines/engine.h) as a plugin
-// engine's block is; the resolved scene records each of the three as the format resolved it.
+// The /solver blocks the scene format defines: ODE's, read into the struct above, and Fx2D's and
+// Box2D's, whose values are those engines' knobs, checked by the engine (engines/engine.h) as a
+// plugin engine's block is; the resolved scene records each of the three as the format resolved it.
 inline constexpr std::array<std::string_view, 3> format_solver_blocks{"fx2d", "box2d", "ode"};
 
 struct SceneSpec {
@@ -88,7 +82,6 @@ struct SceneSpec {
   PrimaryMetric primary_metric = PrimaryMetric::penetration;
   std::vector<BodySpec> bodies;
   std::vector<JointSpec> joints;
-  Box2dSettings box2d;
   OdeSettings ode;
 };
 

@@ -172,26 +172,41 @@ TEST_F(PluginCommands, AKeyThatIsNoKnobIsRefusedWithTheKnobsItCouldBe) {
             "iterations, sleeping, sleep_time, collision_slop\n");
 }
 
-// Fx2D's block is checked once, by Fx2D's knobs, as any engine's: one line naming the scene's file,
-// the JSON pointer and what the knob takes, exit code 2, nothing measured.
-TEST_F(PluginCommands, Fx2dsBlockIsCheckedByItsKnobsInOneLineNamingTheFile) {
+// Fx2D's and Box2D's blocks are checked once, by the engine's knobs, as any engine's: one line
+// naming the scene's file, the JSON pointer and what the knob takes, exit code 2, nothing measured.
+TEST_F(PluginCommands, BuiltInEnginesBlocksAreCheckedByTheirKnobsInOneLineNamingTheFile) {
   const std::string file = path("t.json");
-  const auto error_of = [&](const std::string& fx2d) {
-    std::ofstream(file) << R"({"schema": "fx2d.scene/1", "bodies": [{"shape": {"circle": 1}}], "solver": {"fx2d": )"
-                        << fx2d << "}}";
-    const Ending ended = bench({"run", file, "--engine", "fx2d"});
-    EXPECT_EQ(ended.exit_code, 2) << fx2d;
-    EXPECT_EQ(ended.out, "") << fx2d;
+  const auto error_of = [&](const std::string& engine, const std::string& block) {
+    std::ofstream(file) << R"({"schema": "fx2d.scene/1", "bodies": [{"shape": {"circle": 1}}], "solver": {")"
+                        << engine << R"(": )" << block << "}}";
+    const Ending ended = bench({"run", file, "--engine", engine});
+    EXPECT_EQ(ended.exit_code, 2) << block;
+    EXPECT_EQ(ended.out, "") << block;
     return ended.err;
   };
-  const std::string start = "fx2d-bench: " + file + ": /solver/fx2d/";
-  EXPECT_EQ(error_of(R"({"sleeping": 1})"), start + "sleeping: expected true or false, got 1\n");
-  EXPECT_EQ(error_of(R"({"relax_passes": 0})"), start + "relax_passes: expected an integer from 1 to 1000, got 0\n");
-  EXPECT_EQ(error_of(R"({"max_push_speed": 0})"),
-            start + "max_push_speed: expected a number from 0.001 to 1e+06, got 0\n");
-  EXPECT_EQ(error_of(R"({"workers": 65})"), start + "workers: expected an integer from 1 to 64, got 65\n");
-  EXPECT_EQ(error_of(R"({"substep": 3})"), start + "substep: not a knob of fx2d; expected one of substeps, "
-                                                  "velocity_passes, sleeping, relax_passes, max_push_speed, workers\n");
+  struct Case {
+    std::string engine, block, error;  // the error after "/solver/<engine>/"
+  };
+  const std::vector<Case> cases{
+      {"fx2d", R"({"sleeping": 1})", "sleeping: expected true or false, got 1"},
+      {"fx2d", R"({"relax_passes": 0})", "relax_passes: expected an integer from 1 to 1000, got 0"},
+      {"fx2d", R"({"max_push_speed": 0})", "max_push_speed: expected a number from 0.001 to 1e+06, got 0"},
+      {"fx2d", R"({"workers": 65})", "workers: expected an integer from 1 to 64, got 65"},
+      {"fx2d", R"({"substep": 3})",
+       "substep: not a knob of fx2d; expected one of substeps, velocity_passes, sleeping, relax_passes, "
+       "max_push_speed, workers"},
+      {"box2d", R"({"velocity_iterations": 0})",
+       "velocity_iterations: expected an integer from 1 to 1000, got 0"},
+      {"box2d", R"({"position_iterations": 2.5})",
+       "position_iterations: expected an integer from 0 to 1000, got 2.5"},
+      {"box2d", R"({"sleeping": 0})", "sleeping: expected true or false, got 0"},
+      {"box2d", R"({"velocity": 3})",
+       "velocity: not a knob of box2d; expected one of velocity_iterations, position_iterations, sleeping"},
+  };
+  for (const Case& bad : cases) {
+    EXPECT_EQ(error_of(bad.engine, bad.block),
+              "fx2d-bench: " + file + ": /solver/" + bad.engine + "/" + bad.error + "\n");
+  }
 }
 
 TEST_F(PluginCommands, SweepAxisSweepsAPluginsKnobBesideTheScenesOwnValue) {
@@ -204,7 +219,7 @@ TEST_F(PluginCommands, SweepAxisSweepsAPluginsKnobBesideTheScenesOwnValue) {
   EXPECT_EQ(iterations, (std::vector<int>{3, 7, 10}));  // 10: the knob's default, the scene's own point
 }
 
-TEST_F(PluginCommands, SweepAxisSetsTheShortFormsOfEnginesWithoutKnobs) {
+TEST_F(PluginCommands, SweepAxisSetsTheShortFormsOfBuiltInEngines) {
   const Ending ended = bench_on_small_stacks(
       "sweep", {"--repeats", "1", "--engine", "box2d", "--axis", "box2d.velocity_iterations=2,3", "--box2d-position",
                 "3", "--json"});
@@ -232,6 +247,9 @@ TEST_F(PluginCommands, EnginesListsEachEnginesKnobs) {
       std::string::npos)
       << ended.out;
   EXPECT_NE(ended.out.find("fx2d.substeps, fx2d.velocity_passes"), std::string::npos) << ended.out;
+  EXPECT_NE(ended.out.find("box2d.velocity_iterations, box2d.position_iterations, box2d.sleeping"),
+            std::string::npos)
+      << ended.out;
 }
 
 TEST_F(PluginCommands, AnEngineWithoutBulletsRefusesASceneWithOneNamingIt) {
