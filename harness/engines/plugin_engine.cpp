@@ -204,8 +204,14 @@ std::vector<Knob> knobs_of(const Fx2dBenchPlugin& table) {
 // "chipmunk.iterations, chipmunk.sleeping, ...": the keys it reads, for `engines`.
 std::string settings_description(const Plugin& plugin) {
   std::string text;
-  for (const Knob& knob : plugin.knobs())
-    text += (text.empty() ? "" : ", ") + plugin.name() + "." + knob.name;
+  // Appended piece by piece: GCC 12 with -flto took the temporaries of `", " + name + ...` for a
+  // copy of unbounded size (-Wstringop-overflow) once this was inlined into the test binaries.
+  for (const Knob& knob : plugin.knobs()) {
+    if (!text.empty()) text += ", ";
+    text += plugin.name();
+    text += '.';
+    text += knob.name;
+  }
   return text.empty() ? "no settings" : text;
 }
 
