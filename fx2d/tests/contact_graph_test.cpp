@@ -8,6 +8,7 @@
 
 #include "solver/contact_graph.h"
 #include "solver/contact_solver.h"
+#include "solver/lane_rows.h"
 
 namespace fx2d::detail {
 namespace {
@@ -19,6 +20,13 @@ std::vector<ContactConstraint> pairs_to_constraints(const std::vector<std::pair<
     constraints[i].body_b = pairs[i].second;
   }
   return constraints;
+}
+
+// Solver states with movable_flag set where `movable` says so, as prepare_solver flags them.
+std::vector<FxBodyState> flagged_states(const std::vector<std::uint8_t>& movable) {
+  std::vector<FxBodyState> states(movable.size());
+  for (std::size_t i = 0; i < movable.size(); ++i) states[i].flags = movable[i] ? movable_flag : 0u;
+  return states;
 }
 
 // Checks the invariant and returns how many constraints the groups hold in all.
@@ -61,7 +69,7 @@ TEST(ContactGraph, RandomGraphsNeverShareAMovableBodyWithinAColour) {
     }
     const auto constraints = pairs_to_constraints(pairs);
     ContactGraph graph;
-    graph.build(constraints, movable);
+    graph.build(constraints, flagged_states(movable));
     EXPECT_EQ(check_colouring(graph, constraints, movable), constraints.size()) << "trial " << trial;
   }
 }
@@ -74,7 +82,7 @@ TEST(ContactGraph, StaticBodiesNeverConflict) {
   for (std::uint32_t i = 1; i <= 40; ++i) pairs.emplace_back(0, i);
   const auto constraints = pairs_to_constraints(pairs);
   ContactGraph graph;
-  graph.build(constraints, movable);
+  graph.build(constraints, flagged_states(movable));
   EXPECT_EQ(graph.colour_count(), 1);
   EXPECT_TRUE(graph.members(ContactGraph::overflow).empty());
 }
@@ -87,7 +95,7 @@ TEST(ContactGraph, WhatFitsNoColourGoesToOverflow) {
   for (std::uint32_t i = 1; i <= spokes; ++i) pairs.emplace_back(0, i);
   const auto constraints = pairs_to_constraints(pairs);
   ContactGraph graph;
-  graph.build(constraints, movable);
+  graph.build(constraints, flagged_states(movable));
   EXPECT_EQ(graph.colour_count(), ContactGraph::max_colours);
   ASSERT_EQ(graph.members(ContactGraph::overflow).size(), 5u);
   EXPECT_EQ(graph.members(ContactGraph::overflow)[0], ContactGraph::max_colours);

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "solver/contact_solver.h"
+#include "solver/lane_rows.h"
 
 namespace fx2d::detail {
 
@@ -14,18 +15,19 @@ void ContactGraph::reserve(std::size_t constraints, std::size_t bodies) {
   order_.reserve(constraints);
 }
 
-void ContactGraph::build(std::span<const ContactConstraint> constraints, std::span<const std::uint8_t> movable) {
-  const std::size_t words = (movable.size() + 63) / 64;
+void ContactGraph::build(std::span<const ContactConstraint> constraints, std::span<const FxBodyState> states) {
+  const std::size_t words = (states.size() + 63) / 64;
+  const auto movable = [&](std::uint32_t body) { return (states[body].flags & movable_flag) != 0; };
   used_.assign(words * max_colours, 0);
   colour_of_.resize(constraints.size());
   int counts[max_colours + 1] = {};
   colour_count_ = 0;
 
   auto taken = [&](int colour, std::uint32_t body) {
-    return movable[body] && (used_[colour * words + body / 64] >> (body % 64) & 1u);
+    return movable(body) && (used_[colour * words + body / 64] >> (body % 64) & 1u);
   };
   auto take = [&](int colour, std::uint32_t body) {
-    if (movable[body]) used_[colour * words + body / 64] |= std::uint64_t{1} << (body % 64);
+    if (movable(body)) used_[colour * words + body / 64] |= std::uint64_t{1} << (body % 64);
   };
   for (std::size_t i = 0; i < constraints.size(); ++i) {
     const std::uint32_t a = constraints[i].body_a;

@@ -11,6 +11,8 @@
 #include <span>
 #include <vector>
 
+#include "fx2d/Constraint.h"
+
 namespace fx2d::detail {
 
 struct ContactConstraint;
@@ -20,8 +22,9 @@ class ContactGraph {
   static constexpr int max_colours = 16;
   static constexpr int overflow = max_colours;
 
-  // `movable[i]` is false for static bodies (and any body whose state the solver never changes).
-  void build(std::span<const ContactConstraint> constraints, std::span<const std::uint8_t> movable);
+  // A body is movable when its state carries movable_flag (prepare_solver sets it on the awake
+  // dynamic bodies); the solver never changes any other body's state.
+  void build(std::span<const ContactConstraint> constraints, std::span<const FxBodyState> states);
 
   // Grows storage for this many constraints and bodies, so build() does not allocate up to there.
   void reserve(std::size_t constraints, std::size_t bodies);

@@ -96,7 +96,6 @@ void finalize_body(const FxSceneSettings& settings, const FxBodyState& state, Bo
 
 void SolverData::reserve(std::size_t bodies) {
   states.reserve(bodies + 1);
-  movable.reserve(bodies + 1);
   integration.reserve(bodies);
   contact_solver.reserve(4 * bodies);
   contact_graph.reserve(4 * bodies, bodies + 1);
@@ -113,7 +112,6 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   const std::vector<BodySim>& sims = bodies.sims;
   BodyIntegration& integration = solver.integration;
   std::vector<FxBodyState>& states = solver.states;
-  std::vector<std::uint8_t>& movable = solver.movable;
   integration.clear(step.body_count);
   // A world asleep gathers no state and builds no constraint (a touching constraint always has an
   // awake body): the stages after this one read only the empty lists of moving bodies and
@@ -125,10 +123,7 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   }
   const float h = step.substep_dt;
   states.assign(records.size() + 1, FxBodyState{});
-  movable.resize(records.size() + 1);
-  movable.back() = 0;
   for (std::uint32_t i = 0; i < records.size(); ++i) {
-    movable[i] = records[i].type == FxBodyType::dynamic;
     const bool moves = records[i].awake && records[i].type != FxBodyType::static_body;
     if (!moves) continue;
     FxBodyState& state = states[i];
@@ -146,7 +141,7 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
 
 void colour_and_pack(const StepContext& step, SolverData& solver) {
   const std::vector<ContactConstraint>& constraints = solver.contact_solver.constraints;
-  solver.contact_graph.build(constraints, solver.movable);
+  solver.contact_graph.build(constraints, solver.states);
   solver.contact_batches.pack(constraints, solver.contact_graph, step.body_count, step.tasks,
                               step.settings.force_scalar_solver);
   solver.contact_batches.update_separations(solver.states, step.contact.linear_slop, step.tasks);

@@ -25,7 +25,6 @@ struct StepContext;
 
 struct SolverData {
   std::vector<FxBodyState> states;
-  std::vector<std::uint8_t> movable;  // per body (and the padding slot): can a contact change its state?
   BodyIntegration integration;        // the awake moving bodies, for the substep loops
   ContactSolver contact_solver;
   ContactGraph contact_graph;
