@@ -83,7 +83,7 @@ void read_solver(ObjectReader& scene, SceneSpec& spec) {
   constexpr Range kPasses{1.0, 1000.0};
 
   read_knob_blocks(solver, blocks);
-  record_defaults(solver, "fx2d", {{"substeps", 12}, {"velocity_passes", 2}, {"sleeping", true}});
+  record_defaults(solver, "fx2d", {{"substeps", 8}, {"velocity_passes", 2}, {"sleeping", true}});
   record_defaults(solver, "box2d",
                   {{"velocity_iterations", 8}, {"position_iterations", 3}, {"sleeping", true}});
 

@@ -53,12 +53,12 @@ TEST(SweepCommand, TwoPointGridGetsTheDefaultAddedAndConsistentFronts) {
   const auto json = nlohmann::json::parse(outcome.out);
   EXPECT_EQ(json["schema"], "fx2d-bench.sweep/1");
 
-  // substeps 2 and 4 at 1 pass, then the scene's own 12 x 2, which the grid lacks.
+  // substeps 2 and 4 at 1 pass, then the scene's own 8 x 2, which the grid lacks.
   const auto& points = json["points"];
   ASSERT_EQ(points.size(), 3u);
   EXPECT_EQ(points[0]["settings"]["substeps"], 2);
   EXPECT_EQ(points[1]["settings"]["substeps"], 4);
-  EXPECT_EQ(points[2]["settings"]["substeps"], 12);
+  EXPECT_EQ(points[2]["settings"]["substeps"], 8);
   EXPECT_EQ(points[2]["settings"]["velocity_passes"], 2);
   for (std::size_t i = 0; i < points.size(); ++i) {
     EXPECT_EQ(points[i]["default"], i == 2);
@@ -120,17 +120,17 @@ TEST(SweepCommand, SweepsRelaxationPassesWhenAskedAndKeepsTheSceneItselfAsTheDef
              file);
   std::fclose(file);
   const fs::path out = directory / "sweep.h5";
-  const std::string grid = "sweep " + scene.string() + " --engine fx2d --fx2d-substeps 12 --fx2d-passes 2 --repeats 1 --json";
-  const Outcome relaxed = run_bench(grid + " --fx2d-relax 2,4 --out " + out.string());
+  const std::string grid = "sweep " + scene.string() + " --engine fx2d --fx2d-substeps 8 --fx2d-passes 2 --repeats 1 --json";
+  const Outcome relaxed = run_bench(grid + " --fx2d-relax 3,4 --out " + out.string());
   const Outcome plain = run_bench(grid);
   ASSERT_EQ(relaxed.exit_code, 0) << relaxed.out;
   ASSERT_EQ(plain.exit_code, 0) << plain.out;
 
   const auto points = nlohmann::json::parse(relaxed.out)["points"];
   ASSERT_EQ(points.size(), 2u);
-  EXPECT_EQ(points[0]["settings"]["relax_passes"], 2);
+  EXPECT_EQ(points[0]["settings"]["relax_passes"], 3);
   EXPECT_EQ(points[1]["settings"]["relax_passes"], 4);
-  // The engine's own two relaxation passes are the default point, and the scene without the key is it.
+  // The engine's own three relaxation passes are the default point, and the scene without the key is it.
   EXPECT_TRUE(points[0]["default"].get<bool>());
   EXPECT_FALSE(points[1]["default"].get<bool>());
   const auto plain_default = nlohmann::json::parse(plain.out)["points"][0];
@@ -142,7 +142,7 @@ TEST(SweepCommand, SweepsRelaxationPassesWhenAskedAndKeepsTheSceneItselfAsTheDef
 
   const hid_t h5 = H5Fopen(out.string().c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(h5, 0);
-  EXPECT_EQ(int_column(h5, "/sweep/fx2d_relax_passes"), (std::vector<int>{2, 4}));
+  EXPECT_EQ(int_column(h5, "/sweep/fx2d_relax_passes"), (std::vector<int>{3, 4}));
   H5Fclose(h5);
   fs::remove_all(directory);
 }
