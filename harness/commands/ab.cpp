@@ -43,6 +43,7 @@ struct AbOptions {
   std::string b;
   std::string a_cmake;
   std::string b_cmake;
+  std::string source;  // --source: the Fx2D source tree whose plugin project builds revisions
   SceneOptions scenes;
   InterleavePlan plan;
   std::string out;
@@ -100,8 +101,8 @@ ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
   if (!options.out.empty() && !options.force && std::filesystem::exists(options.out))
     throw InputError(options.out + ": exists; pass --force to overwrite it");
   const std::vector<SceneSpec> scenes = options.scenes.load();
-  const ResolvedBuild resolved_a = resolve_plugin_build("--a", options.a, options.a_cmake);
-  const ResolvedBuild resolved_b = resolve_plugin_build("--b", options.b, options.b_cmake);
+  const ResolvedBuild resolved_a = resolve_plugin_build("--a", options.a, options.a_cmake, options.source);
+  const ResolvedBuild resolved_b = resolve_plugin_build("--b", options.b, options.b_cmake, options.source);
   // instruction_counter.h: refuses before anything is built when valgrind cannot run.
   const std::optional<InstructionCounter> counter =
       options.counter.empty() ? std::nullopt : std::optional<InstructionCounter>(std::in_place);
@@ -186,6 +187,9 @@ void register_ab(CLI::App& app, const std::string& command_line, int& exit_statu
   ab->add_option("--b", options->b, "Build B (judged against A): " + build_help)->required();
   ab->add_option("--a-cmake", options->a_cmake, "Extra CMake arguments for building A, e.g. \"-DFX2D_NATIVE=ON\"");
   ab->add_option("--b-cmake", options->b_cmake, "Extra CMake arguments for building B");
+  ab->add_option("--source", options->source,
+                 "The Fx2D source tree whose harness/plugin builds a revision or the worktree (default: $FX2D_SOURCE, "
+                 "else the tree this fx2d-bench was built from, while it is there)");
   options->scenes.add_to(*ab, "pile");
   ab->add_option("--rounds", options->plan.rounds, "Timed rounds per build, in the order A B B A A B B A ...")
       ->check(enough_rounds_to_decide())

@@ -99,8 +99,7 @@ std::vector<const EngineInfo*> EngineOptions::able_to_build(const SceneSpec& sce
   for (const EngineInfo* engine : selected()) {
     const std::optional<std::string> missing = missing_capability(engine->capabilities, scene);
     if (!missing) {
-      // An engine of knobs (a plugin) checks its /solver block here, before anything is measured;
-      // the scene format has checked the blocks of the others.
+      // The engine's knobs check its /solver block here, before anything is measured.
       if (!engine->knobs.empty()) knob_values(engine->solver, engine->knobs, scene);
       able.push_back(engine);
       continue;

@@ -197,8 +197,8 @@ void add_axes(SweepOptions& options) {
     const std::string key = text.substr(dot + 1, equals - dot - 1);
     const auto existing = std::ranges::find_if(
         options.axes, [&](const KnobAxis& axis) { return axis.engine == engine && axis.key == key; });
-    // A short form's axis (ODE's included, which declares no knobs) keeps its flag's
-    // bounds; any other axis takes its knob's.
+    // A short form's axis keeps its flag's bounds, so that --axis takes what the flag takes; any
+    // other axis takes its knob's.
     double low = 0.0;
     double high = max_knob_value;
     if (existing != options.axes.end()) {

@@ -84,7 +84,6 @@ struct EngineInfo {
   std::function<std::unique_ptr<Engine>()> make;
   std::string solver;     // the scene's /solver/<solver> block it reads: "fx2d" for an Fx2D plugin
   EngineCapabilities capabilities;
-  // Empty for the engine whose settings the scene format itself defines (ode).
   std::vector<Knob> knobs;
   // The plugin file the engine was loaded from, absolute; empty for one linked into the binary.
   std::string plugin_path;

@@ -3,7 +3,6 @@
 // except tests of one adapter.
 #pragma once
 
-#include <cstddef>
 #include <memory>
 
 #include "engines/engine.h"
@@ -17,16 +16,8 @@ std::unique_ptr<Engine> make_box2d_engine();
 // The built-in Box2D's registry entry: its linked-in plugin table's name, knobs and capabilities.
 EngineInfo box2d_engine_info();
 std::unique_ptr<Engine> make_ode_engine();
-
-// No polygons: ODE 0.16's convex-box collider yields one contact point, so a polygon cannot rest
-// on a face. At most 65,536 bodies: the hash space's n x n bit table is 512 MiB at this size,
-// cleared every step (engines/ode.cpp), the largest scene worth waiting for, and half the size at
-// which ODE itself aborts.
-inline const EngineCapabilities ode_capabilities{
-    .shapes = {ShapeKind::circle, ShapeKind::box},
-    .joints = {JointKind::distance, JointKind::revolute},
-    .max_bodies = 65'536,
-};
+// The built-in ODE's registry entry: its linked-in plugin table's name, knobs and capabilities.
+EngineInfo ode_engine_info();
 
 // How far ODE's bodies have left the plane z = 0, the largest over all bodies. ODE simulates in
 // 3D and the adapter holds it to 2D with plane-2D joints plus a flattening pass after each step;
@@ -38,7 +29,7 @@ struct OutOfPlaneDrift {
   double rotation_off_z = 0.0;      // largest |R[2]|, |R[6]|, |R[8]|, |R[9]| (0 for a rotation about z)
 };
 
-// `engine` must come from make_ode_engine(); throws std::invalid_argument otherwise.
+// `engine` must come from make_ode_engine() and be built; throws std::invalid_argument otherwise.
 OutOfPlaneDrift ode_out_of_plane_drift(const Engine& engine);
 
 }  // namespace fxbench

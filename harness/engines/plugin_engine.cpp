@@ -144,6 +144,10 @@ class PluginEngine final : public Engine {
 
   int contact_count() const override { return table_.contact_count(instance_); }
 
+  const Fx2dBenchInstance* instance_of(const Fx2dBenchPlugin& table) const {
+    return &table == &table_ ? instance_ : nullptr;
+  }
+
   void read_state(std::vector<BodyState>& out) const override {
     table_.read_state(instance_, states_.data(), count_of(states_.size()));
     out.resize(states_.size());
@@ -282,6 +286,11 @@ EngineCapabilities Plugin::capabilities() const {
 
 std::unique_ptr<Engine> make_plugin_engine(std::shared_ptr<const Plugin> plugin) {
   return std::make_unique<PluginEngine>(std::move(plugin));
+}
+
+const Fx2dBenchInstance* built_instance(const Engine& engine, const Plugin& plugin) {
+  const auto* over_a_plugin = dynamic_cast<const PluginEngine*>(&engine);
+  return over_a_plugin != nullptr ? over_a_plugin->instance_of(plugin.table()) : nullptr;
 }
 
 EngineInfo plugin_engine_info(std::shared_ptr<const Plugin> plugin, std::string name) {

@@ -60,6 +60,11 @@ std::shared_ptr<const Plugin> linked_fx2d_plugin();
 // An engine over `plugin`'s table; reads the scene's /solver/<plugin name> knobs.
 std::unique_ptr<Engine> make_plugin_engine(std::shared_ptr<const Plugin> plugin);
 
+// The instance `engine` has built, when it is an engine over `plugin`'s table (so that the caller,
+// which linked that table in, knows the World inside it); nullptr for another engine or one not
+// built yet. For a diagnostic of a linked-in adapter (engines.h, ode_out_of_plane_drift).
+const Fx2dBenchInstance* built_instance(const Engine& engine, const Plugin& plugin);
+
 // The registry entry of a loaded plugin, named `name`; its make() keeps the library loaded.
 EngineInfo plugin_engine_info(std::shared_ptr<const Plugin> plugin, std::string name);
 

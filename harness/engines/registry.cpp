@@ -35,16 +35,7 @@ std::span<const EngineInfo> engine_registry() {
   static const std::vector<EngineInfo> engines = [] {
     std::vector<EngineInfo> all{fx2d_engine_info()};
     all.push_back(box2d_engine_info());
-    all.push_back(
-        {"ode",
-         FX2D_BENCH_ODE_VERSION,
-         "dWorldQuickStep with ode.iterations, ode.erp, ode.cfm, auto-disable per ode.auto_disable; "
-         "plane-2D joints, 1 m deep boxes, circles as spheres, friction pyramid",
-         &make_ode_engine,
-         "ode",
-         ode_capabilities,
-         {},
-         {}});
+    all.push_back(ode_engine_info());
     // The plugin this build makes (engines/chipmunk/).
     all.push_back(
         plugin_engine_info(Plugin::load(built_plugin(FX2D_BENCH_CHIPMUNK_PLUGIN_FILE)), "chipmunk"));

@@ -95,11 +95,11 @@ std::string file_text(const fs::path& path) {
   return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
 }
 
-fs::path plugin_project() { return fs::path(FX2D_SOURCE_DIR) / "harness" / "plugin"; }
+fs::path plugin_project(const fs::path& source_tree) { return source_tree / "harness" / "plugin"; }
 
 // Identifies a build apart from its sources: every CMake argument, and the plugin project that
 // wraps the sources, so that a change to the plugin itself never reuses an older build.
-std::string build_key(const std::vector<std::string>& cmake_arguments) {
+std::string build_key(const std::vector<std::string>& cmake_arguments, const fs::path& project) {
   Fnv1a64 hash;
   for (const std::string& argument : cmake_arguments) {
     hash.add(argument);
@@ -107,7 +107,7 @@ std::string build_key(const std::vector<std::string>& cmake_arguments) {
   }
   for (const char* name :
        {"CMakeLists.txt", "Fx2dBenchPlugin.cmake", "fx2d_plugin.cpp", "fx2d_plugin_abi.h", "fx2d_bench_plugin.hpp"})
-    hash.add(file_text(plugin_project() / name));
+    hash.add(file_text(project / name));
   return hash.hex();
 }
 
@@ -123,6 +123,7 @@ struct BuildRequest {
   std::string spec;                     // as typed
   fs::path repository;                  // the git checkout the spec was resolved in
   fs::path source;                      // the tree to build
+  fs::path project;                     // the plugin project that builds it (plugin_project)
   fs::path directory;                   // cache entry: build/, build.log, complete
   std::string plugin_description;       // compiled into the plugin
   std::vector<std::string> cmake_args;  // same flags, then the user's
@@ -150,7 +151,7 @@ void configure_and_build(const BuildRequest& request) {
   if (!fs::exists(build / "CMakeCache.txt")) {
     std::vector<std::string> configure = {FX2D_BENCH_CMAKE_COMMAND,
                                           "-S",
-                                          plugin_project().string(),
+                                          request.project.string(),
                                           "-B",
                                           build.string(),
                                           "-DFX2D_ROOT=" + request.source.string(),
@@ -200,29 +201,34 @@ PluginBuild prebuilt(const std::string& option, const std::string& spec) {
   return build;
 }
 
-PluginBuild built_worktree(const std::string& option, const fs::path& checkout, const std::vector<std::string>& cmake_args,
+PluginBuild built_worktree(const ResolvedBuild& build, const std::vector<std::string>& cmake_args,
                            const std::vector<std::string>& extra_args) {
+  const fs::path checkout = build.path;
+  const fs::path project = plugin_project(build.source_tree);
   const std::string head = output_of({"git", "-C", checkout.string(), "rev-parse", "--short", "HEAD"}).value_or("unknown");
   std::vector<std::string> key = cmake_args;
   key.emplace_back(checkout.string());
   const std::string description = joined({"worktree " + checkout.string() + " (of " + head + ")", joined(extra_args)});
-  const fs::path directory = fs::path(ab_cache_directory()) / ("worktree-" + build_key(key));
-  BuildRequest request{option, worktree_word, checkout, checkout, directory, description, cmake_args};
+  const fs::path directory = fs::path(ab_cache_directory()) / ("worktree-" + build_key(key, project));
+  BuildRequest request{build.option, worktree_word, checkout, checkout, project, directory, description, cmake_args};
   fs::create_directories(request.directory);
-  progress_line(side_of(option) + " = " + description + ": building (log " + (request.directory / "build.log").string() + ")");
+  progress_line(side_of(build.option) + " = " + description + ": building (log " + (request.directory / "build.log").string() + ")");
   configure_and_build(request);
-  return loaded(option, built_plugin(request), description);
+  return loaded(build.option, built_plugin(request), description);
 }
 
-PluginBuild built_revision(const std::string& option, const std::string& spec, const fs::path& repository,
-                           const std::string& sha, const std::vector<std::string>& cmake_args,
+PluginBuild built_revision(const ResolvedBuild& build, const std::vector<std::string>& cmake_args,
                            const std::vector<std::string>& extra_args) {
+  const std::string& option = build.option;
+  const std::string& spec = build.spec;
+  const std::string& sha = build.sha;
   const std::string short_sha = sha.substr(0, 7);
   const std::string description =
       joined({spec.starts_with(short_sha) ? short_sha : short_sha + " (" + spec + ")", joined(extra_args)});
-  const fs::path directory = fs::path(ab_cache_directory()) / (sha + "-" + build_key(cmake_args));
+  const fs::path project = plugin_project(build.source_tree);
+  const fs::path directory = fs::path(ab_cache_directory()) / (sha + "-" + build_key(cmake_args, project));
   const std::string plugin_description = joined({short_sha, joined(extra_args)});
-  BuildRequest request{option, spec, repository, directory / "src", directory, plugin_description, cmake_args};
+  BuildRequest request{option, spec, build.path, directory / "src", project, directory, plugin_description, cmake_args};
   const std::string side = side_of(option);
   if (fs::exists(directory / "complete") && fs::exists(built_plugin(request))) {
     progress_line(side + " = " + description + ": cached build " + directory.string());
@@ -260,8 +266,29 @@ fs::path current_checkout(const std::string& option, const std::string& spec) {
   return *top;
 }
 
-ResolvedBuild resolve_plugin_build(const std::string& option, const std::string& spec, const std::string& cmake_args) {
-  ResolvedBuild build{option, spec, BuildKind::plugin_file, spec, {}, cmake_args};
+std::string plugin_source_tree(const std::string& source, const std::string& built_from) {
+  const auto holds_plugin_project = [](const fs::path& tree) {
+    return fs::is_regular_file(plugin_project(tree) / "CMakeLists.txt");
+  };
+  const char* environment = std::getenv("FX2D_SOURCE");
+  const bool from_environment = source.empty() && environment != nullptr && *environment != '\0';
+  if (!source.empty() || from_environment) {
+    const std::string tree = from_environment ? environment : source;
+    if (!holds_plugin_project(tree))
+      throw InputError((from_environment ? "FX2D_SOURCE=" : "--source ") + tree +
+                       ": not an Fx2D source tree (no harness/plugin/CMakeLists.txt)");
+    return fs::absolute(tree).lexically_normal().string();
+  }
+  if (!holds_plugin_project(built_from))
+    throw InputError("building a revision or the worktree takes the harness/plugin project of an Fx2D source tree, and " +
+                     built_from + ", which this fx2d-bench was built from, has none; name one with --source DIR or "
+                     "FX2D_SOURCE");
+  return built_from;
+}
+
+ResolvedBuild resolve_plugin_build(const std::string& option, const std::string& spec, const std::string& cmake_args,
+                                   const std::string& source) {
+  ResolvedBuild build{option, spec, BuildKind::plugin_file, spec, {}, cmake_args, {}};
   const bool is_built_in = spec == built_in_word;
   if (is_built_in || (spec != worktree_word && fs::exists(spec))) {
     if (!split_words(cmake_args).empty())
@@ -273,13 +300,19 @@ ResolvedBuild resolve_plugin_build(const std::string& option, const std::string&
   const bool is_revision = spec != worktree_word;
   build.path = current_checkout(option, spec).string();
   build.kind = is_revision ? BuildKind::revision : BuildKind::worktree;
-  if (!is_revision) return build;
-  const std::optional<std::string> sha =
-      output_of({"git", "-C", build.path, "rev-parse", "--verify", "--quiet", spec + "^{commit}"});
-  if (!sha || sha->size() < 7)
-    throw InputError(option + " " + spec + ": not a plugin file, a build directory, `worktree`, `built-in`, nor a " +
-                     "git revision of " + build.path);
-  build.sha = *sha;
+  if (is_revision) {
+    const std::optional<std::string> sha =
+        output_of({"git", "-C", build.path, "rev-parse", "--verify", "--quiet", spec + "^{commit}"});
+    if (!sha || sha->size() < 7)
+      throw InputError(option + " " + spec + ": not a plugin file, a build directory, `worktree`, `built-in`, nor a " +
+                       "git revision of " + build.path);
+    build.sha = *sha;
+  }
+  try {
+    build.source_tree = plugin_source_tree(source, FX2D_SOURCE_DIR);
+  } catch (const InputError& missing) {
+    throw InputError(option + " " + spec + ": " + missing.what());
+  }
   return build;
 }
 
@@ -289,8 +322,8 @@ PluginBuild prepare_plugin_build(const ResolvedBuild& build) {
   const std::vector<std::string> extra_args = split_words(build.cmake_args);
   std::vector<std::string> all_args = same_flags_arguments();
   all_args.insert(all_args.end(), extra_args.begin(), extra_args.end());
-  if (build.kind == BuildKind::worktree) return built_worktree(build.option, build.path, all_args, extra_args);
-  return built_revision(build.option, build.spec, build.path, build.sha, all_args, extra_args);
+  if (build.kind == BuildKind::worktree) return built_worktree(build, all_args, extra_args);
+  return built_revision(build, all_args, extra_args);
 }
 
 }  // namespace fxbench

@@ -4,9 +4,11 @@
 // word `built-in` (this binary's own Fx2D, the plugin table linked into it: against this build's
 // plugin file it measures what calling the same code in a loaded library costs).
 //
-// A revision is extracted (git archive) and built with the plugin project of THIS tree
-// (harness/plugin/CMakeLists.txt, FX2D_ROOT = the extracted tree), in Release with the flags this
-// binary was configured with, then the extra --a-cmake/--b-cmake arguments. Builds are cached in
+// A revision is extracted (git archive) and built with the plugin project of the tree this binary
+// was built from (harness/plugin/CMakeLists.txt, FX2D_ROOT = the extracted tree), or of the tree
+// `ab --source` or FX2D_SOURCE names, for an installed binary that outlived its tree
+// (plugin_source_tree), in Release with the flags this binary was configured with, then the extra
+// --a-cmake/--b-cmake arguments. Builds are cached in
 // ${XDG_CACHE_HOME:-$HOME/.cache}/fx2d-bench/ab/<full sha>-<hash>/, the hash covering the CMake
 // arguments and the plugin sources, so the same request never builds twice; the worktree's build
 // directory is kept and rebuilt incrementally each time.
@@ -44,11 +46,20 @@ struct ResolvedBuild {
   std::string path;        // plugin_file: the file or build directory; otherwise the repository's top level
   std::string sha;         // revision: the full commit
   std::string cmake_args;  // the user's extra CMake arguments, whitespace-separated
+  std::string source_tree;  // revision, worktree: the tree whose harness/plugin builds it
 };
 
 // Resolves `spec`, given as `option` (e.g. "--a"), with extra CMake arguments `cmake_args`
-// (whitespace-separated; only for a revision or `worktree`). Builds nothing. Throws InputError.
-ResolvedBuild resolve_plugin_build(const std::string& option, const std::string& spec, const std::string& cmake_args);
+// (whitespace-separated; only for a revision or `worktree`) and `source` (--source, "" when not
+// given: plugin_source_tree). Builds nothing. Throws InputError.
+ResolvedBuild resolve_plugin_build(const std::string& option, const std::string& spec, const std::string& cmake_args,
+                                   const std::string& source);
+
+// The Fx2D source tree whose harness/plugin project builds a revision or the worktree into a
+// plugin: `source` (ab --source), else $FX2D_SOURCE, else `built_from` (the tree this binary was
+// built from) while it still holds that project. Throws InputError, one line saying which tree is
+// missing what and how to name one, when none does.
+std::string plugin_source_tree(const std::string& source, const std::string& built_from);
 
 // Builds `build` when needed and loads its plugin. Throws InputError.
 PluginBuild prepare_plugin_build(const ResolvedBuild& build);

@@ -190,6 +190,14 @@ struct Functions {
 
 }  // namespace detail
 
+// The World inside an instance that plugin_table<World, ...>()'s create() made: for a program that
+// links the table in (as fx2d-bench does its built-in engines) and reads more of its own World
+// than the table carries, such as a test's diagnostic. Nothing else may call it.
+template <class World>
+const World& built_world(const Fx2dBenchInstance* instance) {
+  return detail::world<World>(instance);
+}
+
 // The C table of World, described by `engine` (a constant of static storage, which the table's
 // create() reads for the name and the knob count).
 template <class World, const EngineDescription& engine>

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -40,18 +41,13 @@ MaterialSpec read_material(ObjectReader& parent, const MaterialSpec& inherited) 
   return material;
 }
 
-// The block whose values the format reads itself (OdeSettings); every other block, Fx2D's and
-// Box2D's included, holds an engine's knobs.
-const std::vector<std::string> kReadBlocks{"ode"};
-
-// An engine's block of knobs (Fx2D's, Box2D's, or a plugin engine's): an object of numbers and true/false
-// under the engine's name, kept as given; the engine checks it against its knobs (engines/engine.h,
-// knob_values) when a command selects it, the one check of its values. A name a typo away from one
-// of the format's own blocks is that typo, refused.
+// An engine's block of knobs (Fx2D's, Box2D's, ODE's, or a plugin engine's): an object of numbers and
+// true/false under the engine's name, kept as given; the engine checks it against its knobs
+// (engines/engine.h, knob_values) when a command selects it, the one check of its values. A name a typo away
+// from one of the format's own blocks is that typo, refused.
 void read_knob_blocks(ObjectReader& solver, const Json& blocks) {
   const std::vector<std::string> format_blocks(format_solver_blocks.begin(), format_solver_blocks.end());
   for (const auto& [name, block] : blocks.items()) {
-    if (std::ranges::find(kReadBlocks, name) != kReadBlocks.end()) continue;
     if (std::ranges::find(format_blocks, name) == format_blocks.end() && near_key(name, format_blocks))
       solver.errors().fail(solver.at(name), unknown_key_message(name, format_blocks), true);
     const bool is_engine_name = !name.empty() && std::ranges::all_of(name, [](char c) {
@@ -68,31 +64,37 @@ void read_knob_blocks(ObjectReader& solver, const Json& blocks) {
   }
 }
 
-// Keys of Fx2D's and Box2D's blocks that the format wrote into every resolved scene before those
-// engines declared knobs, still written when left out (at the engines' defaults) so that a scene's
-// resolved form names its schedule and keeps its hash (scenes/README.md). Their values are checked
-// by the engine's knobs, as the block's others are.
-void record_defaults(ObjectReader& solver, const std::string& engine, const Json& defaults) {
-  ObjectReader block(solver.errors(), solver.slot(engine, Json::object()), solver.at(engine));
-  for (const auto& [key, value] : defaults.items()) block.slot(key, value);
+// A number is recorded in the kind of its key's default, as the format wrote these keys before
+// the engines declared knobs (an erp of 1 as 1.0, iterations of 20.0 as 20), so that the two
+// spellings of one value resolve, and hash, the same. Anything else is left for the knobs to refuse.
+void record_in_kind_of(Json& value, const Json& default_value) {
+  if (!value.is_number()) return;
+  const double number = value.get<double>();
+  if (default_value.is_number_float()) {
+    value = number;
+  } else if (default_value.is_number_integer() && value.is_number_float() && number == std::floor(number) &&
+             std::abs(number) <= std::numeric_limits<int>::max()) {
+    value = static_cast<int>(number);
+  }
 }
 
-void read_solver(ObjectReader& scene, SceneSpec& spec) {
+// Keys of Fx2D's, Box2D's and ODE's blocks that the format wrote into every resolved scene before
+// those engines declared knobs, still written when left out (at the engines' defaults) so that a
+// scene's resolved form names its schedule and keeps its hash (scenes/README.md). Their values
+// are checked by the engine's knobs, as the block's others are.
+void record_defaults(ObjectReader& solver, const std::string& engine, const Json& defaults) {
+  ObjectReader block(solver.errors(), solver.slot(engine, Json::object()), solver.at(engine));
+  for (const auto& [key, value] : defaults.items()) record_in_kind_of(block.slot(key, value), value);
+}
+
+void read_solver(ObjectReader& scene) {
   Json& blocks = scene.slot("solver", Json::object());
   ObjectReader solver(scene.errors(), blocks, scene.at("solver"));
-  constexpr Range kPasses{1.0, 1000.0};
-
   read_knob_blocks(solver, blocks);
   record_defaults(solver, "fx2d", {{"substeps", 8}, {"velocity_passes", 2}, {"sleeping", true}});
   record_defaults(solver, "box2d",
                   {{"velocity_iterations", 8}, {"position_iterations", 3}, {"sleeping", true}});
-
-  ObjectReader ode(solver.errors(), solver.slot("ode", Json::object()), solver.at("ode"));
-  spec.ode.iterations = ode.integer("iterations", OdeSettings{}.iterations, kPasses);
-  spec.ode.erp = ode.number("erp", OdeSettings{}.erp, kUnitInterval);
-  spec.ode.cfm = ode.number("cfm", OdeSettings{}.cfm, kNonNegative);
-  spec.ode.auto_disable = ode.boolean("auto_disable", OdeSettings{}.auto_disable);
-  ode.finish();
+  record_defaults(solver, "ode", {{"iterations", 20}, {"erp", 0.2}, {"cfm", 1e-5}, {"auto_disable", true}});
   solver.finish();
 }
 
@@ -449,7 +451,7 @@ SceneSpec read_scene(const ErrorReporter& errors, Json& document) {
   spec.gravity = scene.vec2("gravity", spec.gravity, kSigned);
   spec.primary_metric = kMetricValues[scene.choice("primary_metric", "penetration", kMetrics)];
   read_bounds(scene, spec);
-  read_solver(scene, spec);
+  read_solver(scene);
   const MaterialSpec material = read_material(scene, MaterialSpec{});
 
   std::vector<PendingGround> pending_grounds;

@@ -53,19 +53,12 @@ struct JointSpec {
   double length = -1.0;             // distance joint: rest length; < 0 means "as built"
 };
 
-struct OdeSettings {
-  int iterations = 20;
-  double erp = 0.2;
-  double cfm = 1e-5;
-  bool auto_disable = true;
-};
-
 // Which accuracy figure a scene is judged by in speed-versus-accuracy charts.
 enum class PrimaryMetric { penetration, displacement };
 
-// The /solver blocks the scene format defines: ODE's, read into the struct above, and Fx2D's and
-// Box2D's, whose values are those engines' knobs, checked by the engine (engines/engine.h) as a
-// plugin engine's block is; the resolved scene records each of the three as the format resolved it.
+// The /solver blocks the scene format defines: Fx2D's, Box2D's and ODE's, whose values are those
+// engines' knobs, checked by the engine (engines/engine.h) as a plugin engine's block is; the
+// resolved scene records each of the three as the format resolved it.
 inline constexpr std::array<std::string_view, 3> format_solver_blocks{"fx2d", "box2d", "ode"};
 
 struct SceneSpec {
@@ -82,7 +75,6 @@ struct SceneSpec {
   PrimaryMetric primary_metric = PrimaryMetric::penetration;
   std::vector<BodySpec> bodies;
   std::vector<JointSpec> joints;
-  OdeSettings ode;
 };
 
 }  // namespace fxbench

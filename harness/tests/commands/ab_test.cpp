@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "analysis/compare.h"
+#include "common/errors.h"
 #include "tests/support/bench_process.h"
 #include "engines/plugin_engine.h"
 #include "measure/ab_builds.h"
@@ -243,6 +244,38 @@ TEST_F(AbTest, EveryMisuseIsOneLineAndExitCodeTwo) {
   }
 }
 
+// An installed fx2d-bench may outlive the tree it was built from, whose harness/plugin project builds
+// revisions: --source, else FX2D_SOURCE, names another; with none, one line says what to pass.
+TEST_F(AbTest, TheTreeThatBuildsRevisionsIsSourceElseFx2dSourceElseTheOneBuiltFrom) {
+  unsetenv("FX2D_SOURCE");
+  const std::string gone = (directory_ / "gone").string();
+  EXPECT_EQ(plugin_source_tree("", FX2D_SOURCE_DIR), FX2D_SOURCE_DIR);
+  EXPECT_EQ(plugin_source_tree(FX2D_SOURCE_DIR, gone), fs::path(FX2D_SOURCE_DIR).lexically_normal().string());
+  try {
+    plugin_source_tree("", gone);
+    ADD_FAILURE() << "no tree, yet no refusal";
+  } catch (const InputError& refusal) {
+    EXPECT_EQ(std::string(refusal.what()),
+              "building a revision or the worktree takes the harness/plugin project of an Fx2D source tree, and " +
+                  gone + ", which this fx2d-bench was built from, has none; name one with --source DIR or FX2D_SOURCE");
+  }
+  setenv("FX2D_SOURCE", FX2D_SOURCE_DIR, 1);
+  EXPECT_EQ(plugin_source_tree("", gone), fs::path(FX2D_SOURCE_DIR).lexically_normal().string());
+  setenv("FX2D_SOURCE", gone.c_str(), 1);
+  EXPECT_THROW(plugin_source_tree("", FX2D_SOURCE_DIR), InputError);
+  unsetenv("FX2D_SOURCE");
+}
+
+TEST_F(AbTest, ASourceThatIsNoFx2dTreeIsOneLineAndExitCodeTwoBeforeAnyBuild) {
+  setenv("XDG_CACHE_HOME", (directory_ / "cache").c_str(), 1);
+  const Ending ending = run_bench({"ab", "--a", "HEAD", "--b", "HEAD", "--source", directory_.string()}, directory_);
+  unsetenv("XDG_CACHE_HOME");
+  EXPECT_EQ(ending.exit_code, 2) << ending.err;
+  EXPECT_EQ(ending.err, "fx2d-bench: --a HEAD: --source " + directory_.string() +
+                            ": not an Fx2D source tree (no harness/plugin/CMakeLists.txt)\n");
+  EXPECT_FALSE(fs::exists(directory_ / "cache" / "fx2d-bench" / "ab"));
+}
+
 TEST_F(AbTest, ABuildThatCannotBeFoundIsOneLineAndExitCodeTwo) {
   const Ending ending = run_bench({"ab", "--a", "no-such-revision-or-file", "--b", FX2D_BENCH_PLUGIN}, directory_);
   EXPECT_EQ(ending.exit_code, 2);
@@ -337,7 +370,7 @@ TEST_F(AbProof, ThisBuildTreesPluginAgainstTheCheckoutBuiltByAbIsNoChangeIn19Of2
   if (!sources_are_a_checkout()) GTEST_SKIP() << "needs a git checkout of the sources";
   const fs::path before = fs::current_path();
   fs::current_path(FX2D_SOURCE_DIR);  // `worktree` is the checkout of the current directory
-  const PluginBuild built = prepare_plugin_build(resolve_plugin_build("--b", "worktree", ""));
+  const PluginBuild built = prepare_plugin_build(resolve_plugin_build("--b", "worktree", "", ""));
   fs::current_path(before);
   const EngineInfo a = plugin_engine_info(Plugin::load(FX2D_BENCH_PLUGIN), "fx2d@A");
   const EngineInfo b = plugin_engine_info(built.plugin, "fx2d@B");

@@ -172,7 +172,7 @@ TEST_F(PluginCommands, AKeyThatIsNoKnobIsRefusedWithTheKnobsItCouldBe) {
             "iterations, sleeping, sleep_time, collision_slop\n");
 }
 
-// Fx2D's and Box2D's blocks are checked once, by the engine's knobs, as any engine's: one line
+// Fx2D's, Box2D's and ODE's blocks are checked once, by the engine's knobs, as any engine's: one line
 // naming the scene's file, the JSON pointer and what the knob takes, exit code 2, nothing measured.
 TEST_F(PluginCommands, BuiltInEnginesBlocksAreCheckedByTheirKnobsInOneLineNamingTheFile) {
   const std::string file = path("t.json");
@@ -202,6 +202,11 @@ TEST_F(PluginCommands, BuiltInEnginesBlocksAreCheckedByTheirKnobsInOneLineNaming
       {"box2d", R"({"sleeping": 0})", "sleeping: expected true or false, got 0"},
       {"box2d", R"({"velocity": 3})",
        "velocity: not a knob of box2d; expected one of velocity_iterations, position_iterations, sleeping"},
+      {"ode", R"({"iterations": -1})", "iterations: expected an integer from 1 to 1000, got -1"},
+      {"ode", R"({"erp": 1.5})", "erp: expected a number from 0 to 1, got 1.5"},
+      {"ode", R"({"cfm": 2})", "cfm: expected a number from 0 to 1, got 2.0"},
+      {"ode", R"({"auto_disable": 1})", "auto_disable: expected true or false, got 1"},
+      {"ode", R"({"iteration": 5})", "iteration: not a knob of ode; expected one of iterations, erp, cfm, auto_disable"},
   };
   for (const Case& bad : cases) {
     EXPECT_EQ(error_of(bad.engine, bad.block),
@@ -226,7 +231,8 @@ TEST_F(PluginCommands, SweepAxisSetsTheShortFormsOfBuiltInEngines) {
   ASSERT_EQ(ended.exit_code, 0) << ended.err;
   const json sweep = json::parse(ended.out);
   std::vector<int> iterations;
-  for (const json& point : sweep.at("points")) iterations.push_back(point.at("settings").at("velocity_iterations"));
+  for (const json& point : sweep.at("points"))
+    iterations.push_back(point.at("settings").at("velocity_iterations"));
   EXPECT_EQ(iterations, (std::vector<int>{2, 3, 8}));  // 8: the scene's own
 }
 
@@ -250,6 +256,20 @@ TEST_F(PluginCommands, EnginesListsEachEnginesKnobs) {
   EXPECT_NE(ended.out.find("box2d.velocity_iterations, box2d.position_iterations, box2d.sleeping"),
             std::string::npos)
       << ended.out;
+  EXPECT_NE(ended.out.find("ode.iterations, ode.erp, ode.cfm, ode.auto_disable"), std::string::npos)
+      << ended.out;
+}
+
+// The same refusal from the command line, as the issue asks of every built-in engine's knobs.
+TEST_F(PluginCommands, AnOdeKnobOutOfRangeFromSetIsRefusedInOneLine) {
+  for (const auto& [set, error] : std::vector<std::pair<std::string, std::string>>{
+           {"/solver/ode/iterations=-1", "iterations: expected an integer from 1 to 1000, got -1"},
+           {"/solver/ode/cfm=1.5", "cfm: expected a number from 0 to 1, got 1.5"}}) {
+    const Ending ended = bench({"run", "stacks", "--engine", "ode", "--set", set});
+    EXPECT_EQ(ended.exit_code, 2) << set;
+    EXPECT_EQ(ended.err, "fx2d-bench: scene stacks: /solver/ode/" + error + "\n");
+    EXPECT_EQ(ended.out, "") << set;
+  }
 }
 
 TEST_F(PluginCommands, AnEngineWithoutBulletsRefusesASceneWithOneNamingIt) {
@@ -257,6 +277,14 @@ TEST_F(PluginCommands, AnEngineWithoutBulletsRefusesASceneWithOneNamingIt) {
   const Ending ended = bench({"run", scene, "--engine", "chipmunk", "--set", "/bodies/1/bullet=true"});
   EXPECT_EQ(ended.exit_code, 2);
   EXPECT_NE(ended.err.find("engine chipmunk cannot build bullets"), std::string::npos) << ended.err;
+}
+
+// ODE, built in, declares no bullets either: it has no continuous collision.
+TEST_F(PluginCommands, OdeRefusesASceneWithABulletNamingIt) {
+  const std::string scene = std::string(FX2D_SOURCE_DIR) + "/scenes/tests/falling_circle.json";
+  const Ending ended = bench({"run", scene, "--engine", "ode", "--set", "/bodies/0/bullet=true"});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_EQ(ended.err, "fx2d-bench: scene falling_circle: engine ode cannot build bullets\n");
 }
 
 TEST_F(PluginCommands, AbRefusesBuildsOfTwoDifferentEngines) {

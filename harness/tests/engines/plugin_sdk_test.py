@@ -3,7 +3,8 @@
 moved elsewhere (so nothing can be found by the path it was installed to), its fx2d-bench loading
 Chipmunk2D's plugin from the moved prefix; the template (harness/plugin/template) configured against
 the moved SDK with find_package(Fx2dBench) and built out of tree, then run by the installed
-fx2d-bench beside Fx2D and Chipmunk2D, the template's knob checked and swept.
+fx2d-bench beside Fx2D and Chipmunk2D, the template's knob checked and swept, and timed by `ab`
+against another build of itself; `ab` of a revision told in one line that --source names no tree.
 
 Usage: plugin_sdk_test.py CMAKE BUILD_DIR SOURCE_DIR"""
 import json
@@ -53,8 +54,24 @@ def main():
                                 "--engine", f"plugin:{plugin}|mine", "--axis", "my_engine.substeps=2,4",
                                 "--json"]).stdout)
         assert [point["settings"]["substeps"] for point in sweep["points"]] == [2, 4, 1], sweep["points"]
+        # ab of an engine plugin against another build of itself: the same adapter built again.
+        rebuilt = Path(scratch) / "rebuilt"
+        run([cmake, "-S", Path(source) / "harness/plugin/template", "-B", rebuilt,
+             "-DCMAKE_BUILD_TYPE=Release", f"-DCMAKE_PREFIX_PATH={prefix}"])
+        run([cmake, "--build", rebuilt])
+        ab = subprocess.run([bench, "ab", "--a", plugin, "--b", rebuilt / "libmy_engine_plugin.so", "stacks",
+                             "--bodies", "10", "--steps", "30", "--rounds", "6", "--json"],
+                            capture_output=True, text=True)
+        assert ab.returncode in (0, 1, 3), ab  # a verdict: no regression, regression or inconclusive
+        assert {row["engine"] for row in json.loads(ab.stdout)["rows"]} == {"my_engine"}, ab.stdout
+        # A revision is built with the plugin project of an Fx2D tree, which --source must name.
+        refused = subprocess.run([bench, "ab", "--a", "HEAD", "--b", "HEAD", "--source", scratch],
+                                 capture_output=True, text=True, cwd=source)
+        assert refused.returncode == 2, refused
+        assert refused.stderr == (f"fx2d-bench: --a HEAD: --source {scratch}: not an Fx2D source tree "
+                                  "(no harness/plugin/CMakeLists.txt)\n"), refused.stderr
     print("installed and moved: fx2d-bench ran Chipmunk2D from the prefix; the SDK's template built out of "
-          "tree, run, checked and swept")
+          "tree, run, checked, swept and timed by ab against a second build; ab refused a --source of no tree")
 
 
 if __name__ == "__main__":
