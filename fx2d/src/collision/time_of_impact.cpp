@@ -138,7 +138,10 @@ float closest_allowed(float start, float target, float tolerance) {
 
 }  // namespace
 
-float reach(const FxShape& shape, FxVec2f local_center) { return shape.extent() + distance(shape.centroid(), local_center); }
+float reach(const FxShape& shape, FxVec2f local_center) {
+  const float turning_extent = shape.type() == FxShapeType::circle ? 0.0f : shape.extent();
+  return turning_extent + distance(shape.centroid(), local_center);
+}
 
 FxTransform Sweep::at(float t) const {
   const FxVec2f center = lerp(center0, center1, t);

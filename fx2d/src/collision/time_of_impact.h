@@ -36,7 +36,9 @@ struct Separation {
   FxVec2f normal;
 };
 
-// How far any point of `shape` lies from its body's centre of mass `local_center` (metres).
+// How far a turn about its body's centre of mass `local_center` can carry `shape`'s surface, per
+// radian (metres): the farthest vertex's distance for a polygon, the centre's offset for a circle,
+// whose surface turns in place about its centre.
 float reach(const FxShape& shape, FxVec2f local_center);
 
 Separation shape_separation(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b);
