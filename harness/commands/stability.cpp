@@ -5,7 +5,8 @@
 //
 // Reads top to bottom: the options, the search of one engine x test (each evaluation loads the
 // test's scene file with the user's --set and then the parameter's overrides, simulates it untimed
-// and judges the sampled poses: stability_tests.h), the search of every engine x test, then the
+// and judges the sampled poses: stability_tests.h; or one piece of it, when --shard spreads a
+// search over shards: stability_pieces.h), the search of every engine x test, then the
 // outputs (format/stability_format.h). Nothing is timed, so the table depends only on the engines and the build, never on the
 // machine's load.
 #include <unistd.h>
