@@ -258,5 +258,31 @@ TEST(Merge, RefusesGapsDuplicatesAndShardsOfAnotherWorkList) {
   fs::remove_all(directory);
 }
 
+// One search alone is more than a shard's fair share, so two shards run a piece of it each; the
+// pieces merge into the unsharded row, and one piece alone is a gap.
+TEST(Merge, TheTwoPiecesOfOneSpreadSearchMergeToItAndOneAloneIsRefused) {
+  const fs::path directory = fresh_directory("pieces");
+  const std::vector<std::string> command{"stability", "--quick", "--engine", "ode", "--test", "pyramid"};
+  std::vector<std::string> whole = command;
+  whole.insert(whole.end(), {"--out", (directory / "whole.h5").string()});
+  ASSERT_EQ(run_bench(whole, directory).exit_code, 0);
+  std::vector<std::string> parts;
+  for (const char* shard : {"1/2", "2/2"}) {
+    std::vector<std::string> arguments = command;
+    parts.push_back((directory / ("part" + std::string(1, shard[0]) + ".h5")).string());
+    arguments.insert(arguments.end(), {"--shard", shard, "--out", parts.back()});
+    const Ending part = run_bench(arguments, directory);
+    ASSERT_EQ(part.exit_code, 0) << part.err;
+    EXPECT_NE(part.out.find("piece " + std::string(shard)), std::string::npos) << part.out;
+  }
+  const std::string out = (directory / "merged.h5").string();
+  ASSERT_EQ(run_bench({"merge", out, parts[1], parts[0]}, directory).exit_code, 0);
+  expect_same_columns(read_table_h5(directory / "whole.h5", "/stability"), read_table_h5(out, "/stability"), {});
+  expect_same_columns(read_table_h5(directory / "whole.h5", "/stability/evaluations"),
+                      read_table_h5(out, "/stability/evaluations"), {});
+  expect_refused(run_bench({"merge", (directory / "alone.h5").string(), parts[0]}, directory), "piece 2/2 is in no file given");
+  fs::remove_all(directory);
+}
+
 }  // namespace
 }  // namespace fxbench
