@@ -2,11 +2,14 @@
 #include "analysis/shard_merge.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <set>
 #include <variant>
 
+#include "analysis/stability_pieces.h"
+#include "analysis/stability_tests.h"
 #include "common/errors.h"
 #include "stats/pareto.h"
 
@@ -69,32 +72,60 @@ void check_same_work(const std::vector<ShardFile>& files) {
   }
 }
 
-// Every work item once, in work-list order. Refuses an item two shards both ran and one none ran.
-std::vector<RowSource> rows_in_order(const std::vector<ShardFile>& files) {
-  std::map<std::int32_t, RowSource> by_item;
+// The piece a row holds and how many its item has: 0 of 1 in a table without pieces (a sweep's).
+std::pair<std::int32_t, std::int32_t> piece_of(const ShardFile& file, std::size_t row) {
+  const bool has_pieces = std::ranges::any_of(file.table.columns, [](const H5Column& c) { return c.name == "pieces"; });
+  if (!has_pieces) return {0, 1};
+  return {column<std::int32_t>(file.table, file.path, "piece").at(row), column<std::int32_t>(file.table, file.path, "pieces").at(row)};
+}
+
+std::string piece_name(std::int32_t item, std::pair<std::int32_t, std::int32_t> piece) {
+  return "work item " + std::to_string(item) +
+         (piece.second > 1 ? " piece " + std::to_string(piece.first + 1) + "/" + std::to_string(piece.second) : "");
+}
+
+std::string missing_shards(const std::vector<ShardFile>& files) {
+  std::string missing;
+  for (int k = 1; k <= files.front().shard.count; ++k)
+    if (std::ranges::none_of(files, [&](const ShardFile& file) { return file.shard.index == k; }))
+      missing += (missing.empty() ? "" : ", ") + std::to_string(k) + "/" + std::to_string(files.front().shard.count);
+  return missing.empty() ? "" : "; shards missing: " + missing;
+}
+
+// Every work item's rows, in work-list order: one, or one per piece of a search spread over
+// shards, in piece order. Refuses an item (or a piece) two shards both ran and one none ran.
+std::vector<std::vector<RowSource>> rows_in_order(const std::vector<ShardFile>& files) {
+  std::map<std::int32_t, std::map<std::int32_t, RowSource>> by_item;
+  std::map<std::int32_t, std::int32_t> pieces_of_item;
   for (std::size_t f = 0; f < files.size(); ++f) {
     const std::vector<std::int32_t>& items = column<std::int32_t>(files[f].table, files[f].path, "work_item");
     for (std::size_t row = 0; row < items.size(); ++row) {
+      const auto piece = piece_of(files[f], row);
       if (items[row] < 0 || items[row] >= files[f].work_items)
         throw InputError(files[f].path + ": work item " + std::to_string(items[row]) + " is outside the work list of " +
                          std::to_string(files[f].work_items));
-      const auto [at, inserted] = by_item.try_emplace(items[row], RowSource{f, row});
-      if (!inserted)
-        throw InputError(files[f].path + ": work item " + std::to_string(items[row]) + " is also in " + files[at->second.file].path);
+      const auto [count, first_seen] = pieces_of_item.try_emplace(items[row], piece.second);
+      if (piece.first < 0 || piece.first >= piece.second || count->second != piece.second)
+        throw InputError(files[f].path + ": " + piece_name(items[row], piece) + " does not fit the pieces of the other files");
+      const auto [at, inserted] = by_item[items[row]].try_emplace(piece.first, RowSource{f, row});
+      if (!inserted) throw InputError(files[f].path + ": " + piece_name(items[row], piece) + " is also in " + files[at->second.file].path);
     }
   }
   const std::int32_t total = files.front().work_items;
+  std::vector<std::vector<RowSource>> rows;
   for (std::int32_t item = 0; item < total; ++item) {
-    if (by_item.contains(item)) continue;
-    std::string missing;
-    for (int k = 1; k <= files.front().shard.count; ++k)
-      if (std::ranges::none_of(files, [&](const ShardFile& file) { return file.shard.index == k; }))
-        missing += (missing.empty() ? "" : ", ") + std::to_string(k) + "/" + std::to_string(files.front().shard.count);
-    throw InputError("merge: work item " + std::to_string(item) + " of " + std::to_string(total) + " is in no file given" +
-                     (missing.empty() ? "" : "; shards missing: " + missing));
+    const auto pieces = pieces_of_item.find(item);
+    if (pieces == pieces_of_item.end())
+      throw InputError("merge: work item " + std::to_string(item) + " of " + std::to_string(total) + " is in no file given" +
+                       missing_shards(files));
+    rows.emplace_back();
+    for (std::int32_t piece = 0; piece < pieces->second; ++piece) {
+      const auto source = by_item[item].find(piece);
+      if (source == by_item[item].end())
+        throw InputError("merge: " + piece_name(item, {piece, pieces->second}) + " is in no file given" + missing_shards(files));
+      rows.back().push_back(source->second);
+    }
   }
-  std::vector<RowSource> rows;
-  for (const auto& [item, source] : by_item) rows.push_back(source);
   return rows;
 }
 
@@ -162,23 +193,110 @@ void merge_sweep(const std::vector<ShardFile>& files, const std::vector<RowSourc
   }
 }
 
-// A stability table: each merged row's evaluations after the previous row's, pointing at it.
-H5Table merged_evaluations(const std::vector<ShardFile>& files, const std::vector<RowSource>& rows, H5Table& table) {
+// The evaluation rows of a merged stability row, in order, and its search; a whole search's are
+// its shard's own rows, a spread search's those the search replayed over its pieces' verdicts needs.
+struct MergedSearch {
+  std::vector<RowSource> evaluations;
+  std::optional<SearchResult> replayed;  // only for a spread search
+};
+
+template <class T>
+const T& cell(const ShardFile& file, const std::string& name, std::size_t row) {
+  return column<T>(file.table, file.path, name).at(row);
+}
+
+template <class T>
+const T& evaluation_cell(const ShardFile& file, const std::string& name, std::size_t row) {
+  return column<T>(*file.evaluations, file.path, name).at(row);
+}
+
+Verdict verdict_at(const ShardFile& file, std::size_t row) {
+  const std::int32_t step = evaluation_cell<std::int32_t>(file, "step", row);
+  return {evaluation_cell<std::uint8_t>(file, "pass", row) != 0, evaluation_cell<std::string>(file, "reason", row),
+          evaluation_cell<std::string>(file, "criterion", row), step < 0 ? std::nullopt : std::optional<int>(step)};
+}
+
+// The search the pieces in `pieces` ran apart, replayed over the verdicts they found (which must
+// agree where two found the same).
+MergedSearch replayed_search(const std::vector<ShardFile>& files, const std::vector<RowSource>& pieces) {
+  std::map<double, Verdict> verdicts;
+  std::map<double, RowSource> found_in;
+  for (const RowSource& piece : pieces) {
+    const ShardFile& file = files[piece.file];
+    const auto first = static_cast<std::size_t>(cell<std::int32_t>(file, "first_evaluation", piece.row));
+    for (std::size_t e = first; e < first + static_cast<std::size_t>(cell<std::int32_t>(file, "evaluation_count", piece.row)); ++e) {
+      const double parameter = evaluation_cell<double>(file, "parameter", e);
+      const Verdict verdict = verdict_at(file, e);
+      const auto [known, inserted] = verdicts.emplace(parameter, verdict);
+      if (!inserted && (known->second.pass != verdict.pass || known->second.reason != verdict.reason))
+        throw InputError(file.path + ": its verdict at " + evaluation_cell<std::string>(file, "overrides", e) + " differs from " +
+                         files[found_in[parameter].file].path + "'s: the engine is not deterministic");
+      found_in.try_emplace(parameter, RowSource{piece.file, e});
+    }
+  }
+  const ShardFile& file = files[pieces.front().file];
+  const std::string& name = cell<std::string>(file, "test", pieces.front().row);
+  const auto test = std::ranges::find(stability_suite(), name, &StabilityTest::name);
+  if (test == stability_suite().end()) throw InputError(file.path + ": test " + name + " is not in this build's suite");
+  SearchSpec as_run = test->search;
+  as_run.limit = cell<double>(file, "limit", pieces.front().row);
+  const bool quick = attribute<std::int32_t>(file, "quick") != 0;
+  const bool capped = as_run.limit != (quick ? test->quick_limit : test->search.limit);
+  MergedSearch merged;
+  try {
+    merged.replayed = replay_search(as_run, capped, verdicts);
+  } catch (const InputError& error) {
+    throw InputError("merge: " + name + " on " + cell<std::string>(file, "engine", pieces.front().row) + ": " + error.what());
+  }
+  for (const Evaluation& evaluation : merged.replayed->evaluations) merged.evaluations.push_back(found_in.at(evaluation.parameter));
+  return merged;
+}
+
+MergedSearch whole_search(const std::vector<ShardFile>& files, const RowSource& source) {
+  MergedSearch merged;
+  const ShardFile& file = files[source.file];
+  const auto first = static_cast<std::size_t>(cell<std::int32_t>(file, "first_evaluation", source.row));
+  for (std::size_t e = 0; e < static_cast<std::size_t>(cell<std::int32_t>(file, "evaluation_count", source.row)); ++e)
+    merged.evaluations.push_back({source.file, first + e});
+  return merged;
+}
+
+// Row i of the merged table made the spread search's: its result, and piece 0 of 1.
+void write_result(H5Table& table, const std::string& path, std::size_t i, const SearchResult& result) {
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  const Verdict failure = first_failure(result);
+  column<std::string>(table, path, "outcome").at(i) = to_string(result.outcome);
+  column<double>(table, path, "last_pass").at(i) = result.last_pass.value_or(none);
+  column<double>(table, path, "first_fail").at(i) = result.first_fail.value_or(none);
+  column<std::string>(table, path, "failure").at(i) = failure.reason;
+  column<std::string>(table, path, "failed_criterion").at(i) = failure.criterion;
+  column<std::int32_t>(table, path, "failed_step").at(i) = failure.step.value_or(-1);
+  column<std::int32_t>(table, path, "piece").at(i) = 0;
+  column<std::int32_t>(table, path, "pieces").at(i) = 1;
+}
+
+// A stability table: each merged row's evaluations after the previous row's, pointing at it; a
+// search spread over pieces joined into one row.
+H5Table merged_evaluations(const std::vector<ShardFile>& files, const std::vector<std::vector<RowSource>>& rows, H5Table& table) {
   std::vector<const H5Table*> evaluation_tables;
   std::vector<RowSource> evaluation_rows;
   for (const ShardFile& file : files) evaluation_tables.push_back(&*file.evaluations);
-  std::vector<std::int32_t>& first = column<std::int32_t>(table, files.front().path, "first_evaluation");
-  const std::vector<std::int32_t>& count = column<std::int32_t>(table, files.front().path, "evaluation_count");
+  const std::string& path = files.front().path;
+  std::vector<std::int32_t> first;
+  std::vector<std::int32_t> count;
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    const std::size_t from = static_cast<std::size_t>(first[i]);
-    first[i] = static_cast<std::int32_t>(evaluation_rows.size());
-    for (std::size_t e = 0; e < static_cast<std::size_t>(count[i]); ++e) evaluation_rows.push_back({rows[i].file, from + e});
+    const MergedSearch search = rows[i].size() == 1 ? whole_search(files, rows[i].front()) : replayed_search(files, rows[i]);
+    if (search.replayed) write_result(table, path, i, *search.replayed);
+    first.push_back(static_cast<std::int32_t>(evaluation_rows.size()));
+    count.push_back(static_cast<std::int32_t>(search.evaluations.size()));
+    evaluation_rows.insert(evaluation_rows.end(), search.evaluations.begin(), search.evaluations.end());
   }
+  column<std::int32_t>(table, path, "first_evaluation") = first;
+  column<std::int32_t>(table, path, "evaluation_count") = count;
   H5Table evaluations = gathered(evaluation_tables, evaluation_rows);
-  std::vector<std::int32_t>& owner = column<std::int32_t>(evaluations, files.front().path, "row");
+  std::vector<std::int32_t>& owner = column<std::int32_t>(evaluations, path, "row");
   for (std::size_t i = 0; i < rows.size(); ++i)
-    for (std::size_t e = 0; e < static_cast<std::size_t>(count[i]); ++e)
-      owner[static_cast<std::size_t>(first[i]) + e] = static_cast<std::int32_t>(i);
+    for (std::size_t e = 0; e < static_cast<std::size_t>(count[i]); ++e) owner[static_cast<std::size_t>(first[i]) + e] = static_cast<std::int32_t>(i);
   return evaluations;
 }
 
@@ -193,7 +311,9 @@ void read_shard_attributes(ShardFile& file) {
 MergedFile merge_shards(std::vector<ShardFile> files) {
   check_same_work(files);
   std::ranges::sort(files, {}, [](const ShardFile& file) { return file.shard.index; });
-  const std::vector<RowSource> rows = rows_in_order(files);
+  const std::vector<std::vector<RowSource>> item_rows = rows_in_order(files);
+  std::vector<RowSource> rows;  // each item's first row: the only one but for a spread search
+  for (const auto& pieces : item_rows) rows.push_back(pieces.front());
   MergedFile merged;
   merged.results.provenance = files.front().results.provenance;
   if (files.front().table.path == "/shard") {
@@ -215,7 +335,7 @@ MergedFile merge_shards(std::vector<ShardFile> files) {
     hosts += (hosts.empty() ? "" : "; ") + file.shard.text() + " " + file.results.provenance.hostname;
   table.attributes.emplace_back("shard_hosts", hosts);
   if (files.front().evaluations)
-    merged.tables.push_back(merged_evaluations(files, rows, table));
+    merged.tables.push_back(merged_evaluations(files, item_rows, table));
   else
     merge_sweep(files, rows, merged.results, table);
   return merged;

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -117,6 +118,9 @@ Verdict joints_hold(const SceneSpec& scene, const Trajectory& trajectory, double
 
 // ---- The suite ----
 
+// True once the poses sampled so far fail a test with the verdict the whole trajectory gets.
+using SettledFailure = std::function<bool(const SceneSpec&, const Trajectory&)>;
+
 struct StabilityTest {
   std::string name;        // what --test selects; the scene is scenes/stability/<name>.json
   std::string parameter;   // e.g. "height"
@@ -134,7 +138,7 @@ struct StabilityTest {
   // Optional: true once the poses sampled so far fail the test with the very verdict the whole
   // trajectory gets (a check the judge makes first and that reports its first failing sample), so
   // the simulation stops there: a collapsed tower costs its first second, not its five.
-  std::function<bool(const SceneSpec&, const Trajectory&)> settled_failure = nullptr;
+  SettledFailure settled_failure = nullptr;
 };
 
 // The suite in its fixed order.
@@ -147,11 +151,37 @@ std::span<const StabilityTest> stability_suite();
 SceneSpec load_test_scene(const StabilityTest& test, const std::string& suite_dir,
                           const std::vector<std::pair<std::string, std::string>>& user_sets, double parameter);
 
-// Builds `scene` into a fresh instance of `engine` and steps it through scene.steps, untimed,
-// sampling poses at the start, every `sample_every` steps and after the last step; or up to the
-// first sample at which `settled_failure` (when given) holds.
-Trajectory simulate(const SceneSpec& scene, const EngineInfo& engine, int sample_every,
-                    const std::function<bool(const SceneSpec&, const Trajectory&)>& settled_failure = {});
+// `scene` built into a fresh instance of `engine` and stepped, untimed, in as many goes as asked,
+// sampling poses at the start, every `sample_every` steps and after the scene's last step; it stops
+// for good at the first sample at which `settled_failure` (when given) holds. However it is cut
+// into goes, the trajectory is the same.
+class Simulation {
+ public:
+  Simulation(SceneSpec scene, const EngineInfo& engine, int sample_every, SettledFailure settled_failure = {});
+  Simulation(const Simulation&) = delete;  // the engine may keep pointers into scene_
+  Simulation& operator=(const Simulation&) = delete;
+
+  // Steps on up to `last_step` (at most the scene's steps), unless it has stopped.
+  void run_to(int last_step);
+  bool stopped() const { return settled_ || step_ == scene_.steps; }
+  bool settled() const { return settled_; }  // stopped at a settled failure
+  const SceneSpec& scene() const { return scene_; }
+  const Trajectory& trajectory() const { return trajectory_; }
+
+ private:
+  void sample();
+
+  SceneSpec scene_;
+  std::unique_ptr<Engine> instance_;
+  int sample_every_;
+  SettledFailure settled_failure_;
+  Trajectory trajectory_;
+  int step_ = 0;
+  bool settled_ = false;
+};
+
+// A Simulation run through scene.steps in one go.
+Trajectory simulate(const SceneSpec& scene, const EngineInfo& engine, int sample_every, const SettledFailure& settled_failure = {});
 
 // ---- One engine x test, searched ----
 
@@ -173,6 +203,10 @@ struct TestResult {
   SearchResult result;
   std::vector<std::string> overrides;  // per evaluation, the --set assignments of its parameter
   std::size_t work_item = 0;           // the pair's index in the whole work list
+  // A search spread over shards (analysis/stability_pieces.h) is run in `pieces`; this is piece
+  // `piece` (0-based), whose result holds only the verdicts it found, in `evaluations`.
+  int piece = 0;
+  int pieces = 1;
 };
 
 // The verdict of the easiest value that failed: what failed first there, and when; empty when

@@ -5,18 +5,22 @@
 //
 // Reads top to bottom: the options, the search of one engine x test (each evaluation loads the
 // test's scene file with the user's --set and then the parameter's overrides, simulates it untimed
-// and judges the sampled poses: stability_tests.h), the search of every engine x test, then the
+// and judges the sampled poses: stability_tests.h; or one piece of it, when --shard spreads a
+// search over shards: stability_pieces.h), the search of every engine x test, then the
 // outputs (format/stability_format.h). Nothing is timed, so the table depends only on the engines and the build, never on the
 // machine's load.
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "analysis/stability_costs.h"
+#include "analysis/stability_pieces.h"
 #include "analysis/stability_tests.h"
 #include "commands/cli_options.h"
 #include "commands/commands.h"
@@ -46,6 +50,7 @@ struct StabilityOptions {
 struct WorkList {
   std::vector<EngineTest> pairs;
   std::vector<double> costs;
+  std::vector<bool> spreadable;  // whose probes foresight can settle: analysis/stability_pieces.h
   std::string identity;  // work_list_identity of the settings and every pair's key
 };
 
@@ -72,22 +77,84 @@ void show_progress(const EngineInfo& engine, const StabilityTest& test, double p
   std::fflush(stderr);
 }
 
-TestResult search_test(const StabilityOptions& options, const EngineInfo& engine, const StabilityTest& test) {
-  TestResult outcome{&engine, &test, test.search, {}, {}, {}};
+// The probes of one engine x test: each parameter's scene loaded with the user's --set, the
+// engine's settings noted from the first, and the simulations foresight began kept until they are
+// run on.
+class PairProbes {
+ public:
+  PairProbes(const StabilityOptions& options, const EngineInfo& engine, const StabilityTest& test, std::string& settings)
+      : options_(options), engine_(engine), test_(test), settings_(settings), sets_(user_sets(options.sets)) {}
+
+  // The exact verdict when the probe's first foresight_fraction of steps settles it.
+  std::optional<Verdict> foresee(double parameter) {
+    const auto [scene, refusal] = scene_of(parameter);
+    if (refusal) return refusal;
+    auto simulation = std::make_unique<Simulation>(*scene, engine_, test_.sample_every, test_.settled_failure);
+    simulation->run_to(static_cast<int>(std::ceil(foresight_fraction * scene->steps)));
+    if (simulation->settled()) return test_.judge(simulation->scene(), simulation->trajectory());
+    begun_[parameter] = std::move(simulation);
+    return std::nullopt;
+  }
+
+  Verdict evaluate(double parameter) {
+    if (const auto begun = begun_.find(parameter); begun != begun_.end()) {
+      const std::unique_ptr<Simulation> simulation = std::move(begun->second);
+      begun_.erase(begun);
+      return judged(*simulation);
+    }
+    const auto [scene, refusal] = scene_of(parameter);
+    if (refusal) return *refusal;
+    Simulation simulation(*scene, engine_, test_.sample_every, test_.settled_failure);
+    return judged(simulation);
+  }
+
+  // Bodies x steps of a probe foresight began.
+  double cost(double parameter) const {
+    const SceneSpec& scene = begun_.at(parameter)->scene();
+    return static_cast<double>(scene.bodies.size()) * scene.steps;
+  }
+
+ private:
+  Verdict judged(Simulation& simulation) const {
+    simulation.run_to(simulation.scene().steps);
+    return test_.judge(simulation.scene(), simulation.trajectory());
+  }
+
+  // The parameter's scene, or the verdict when the engine cannot build it: a stress the test's
+  // engine_limit does not foresee is where it stops holding.
+  std::pair<std::optional<SceneSpec>, std::optional<Verdict>> scene_of(double parameter) {
+    show_progress(engine_, test_, parameter);
+    SceneSpec scene = load_test_scene(test_, options_.suite_dir, sets_, parameter);
+    if (settings_.empty()) settings_ = engine_settings_json(engine_, scene);
+    if (const std::optional<std::string> missing = missing_capability(engine_.capabilities, scene))
+      return {std::nullopt, Verdict{false, engine_.name + " cannot build " + *missing, "cannot_build", std::nullopt}};
+    return {std::move(scene), std::nullopt};
+  }
+
+  const StabilityOptions& options_;
+  const EngineInfo& engine_;
+  const StabilityTest& test_;
+  std::string& settings_;
+  std::vector<std::pair<std::string, std::string>> sets_;
+  std::map<double, std::unique_ptr<Simulation>> begun_;
+};
+
+// Piece `piece.piece` of the search of one engine x test, or the whole search when it has one piece.
+TestResult search_test(const StabilityOptions& options, const EngineInfo& engine, const StabilityTest& test, const ItemPiece& piece) {
+  TestResult outcome{&engine, &test, test.search, {}, {}, {}, piece.item, piece.piece, piece.pieces};
   if (options.quick) outcome.search.limit = test.quick_limit;
-  const auto sets = user_sets(options.sets);
-  const auto evaluate = [&](double parameter) {
-    show_progress(engine, test, parameter);
-    outcome.overrides.push_back(assignments_text(test.overrides(parameter)));
-    const SceneSpec scene = load_test_scene(test, options.suite_dir, sets, parameter);
-    if (outcome.settings.empty()) outcome.settings = engine_settings_json(engine, scene);
-    // A stress the engine cannot build that the test's engine_limit does not foresee is where it
-    // stops holding.
-    if (const std::optional<std::string> missing = missing_capability(engine.capabilities, scene))
-      return Verdict{false, engine.name + " cannot build " + *missing, "cannot_build", std::nullopt};
-    return test.judge(scene, simulate(scene, engine, test.sample_every, test.settled_failure));
-  };
-  outcome.result = find_engine_boundary(test, outcome.search, engine.capabilities, evaluate);
+  PairProbes probes(options, engine, test, outcome.settings);
+  if (piece.pieces == 1) {
+    outcome.result = find_engine_boundary(test, outcome.search, engine.capabilities,
+                                          [&](double parameter) { return probes.evaluate(parameter); });
+  } else {
+    const ProbeSource source{[&](double parameter) { return probes.foresee(parameter); },
+                             [&](double parameter) { return probes.evaluate(parameter); },
+                             [&](double parameter) { return probes.cost(parameter); }};
+    outcome.result.evaluations = search_piece(test, outcome.search, engine.capabilities, piece.piece, piece.pieces, source);
+  }
+  for (const Evaluation& evaluation : outcome.result.evaluations)
+    outcome.overrides.push_back(assignments_text(test.overrides(evaluation.parameter)));
   return outcome;
 }
 
@@ -110,6 +177,7 @@ WorkList work_list_of(const StabilityOptions& options, const std::vector<const E
       if (std::ranges::find(able[t], engine) == able[t].end()) continue;
       work.pairs.emplace_back(engine, tests[t]);
       work.costs.push_back(stability_cost(tests[t]->name, engine->name));
+      work.spreadable.push_back(tests[t]->settled_failure != nullptr);
       keys.push_back(engine->name + " " + engine->version + " " + tests[t]->name + " " + start_scenes[t].hash);
     }
   work.identity = work_list_identity(keys);
@@ -128,10 +196,8 @@ void stability_command(const StabilityOptions& options, const std::string& comma
     start_scenes.push_back(load_test_scene(*test, options.suite_dir, user_sets(options.sets), test->search.start));
   const WorkList work = work_list_of(options, engines, tests, start_scenes);
   std::vector<TestResult> results;
-  for (std::size_t item : items_of(shard, work.costs)) {
-    results.push_back(search_test(options, *work.pairs[item].first, *work.pairs[item].second));
-    results.back().work_item = item;
-  }
+  for (const ItemPiece& piece : pieces_of(shard, work.costs, work.spreadable))
+    results.push_back(search_test(options, *work.pairs[piece.item].first, *work.pairs[piece.item].second, piece));
   if (isatty(STDERR_FILENO) == 1) std::fputs("\r\x1b[K", stderr);
 
   if (options.json)

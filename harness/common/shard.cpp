@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdlib>
 #include <numeric>
 #include <optional>
@@ -58,26 +59,67 @@ Shard parse_shard(const std::string& text, const std::string& option) {
   return {*index, *count};
 }
 
-std::vector<int> assign_parts(std::span<const double> costs, int parts) {
-  std::vector<std::size_t> order(costs.size());
+namespace {
+
+// The longest-processing-time rule over pieces: each, in decreasing cost, to the part with the
+// least cost so far that holds no other piece of its item (ties to the lower part).
+std::vector<int> assign_pieces(std::span<const double> costs, std::span<const ItemPiece> pieces, int parts) {
+  std::vector<std::size_t> order(pieces.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
-  std::ranges::stable_sort(order, [&](std::size_t a, std::size_t b) { return costs[a] > costs[b]; });
+  const auto cost = [&](std::size_t p) { return costs[pieces[p].item] / pieces[p].pieces; };
+  std::ranges::stable_sort(order, [&](std::size_t a, std::size_t b) { return cost(a) > cost(b); });
   std::vector<double> load(static_cast<std::size_t>(parts), 0.0);
-  std::vector<int> part_of(costs.size(), 0);
-  for (std::size_t item : order) {
-    const auto lightest = std::ranges::min_element(load);  // the first of equals: the lower part
-    part_of[item] = static_cast<int>(lightest - load.begin());
-    *lightest += costs[item];
+  std::vector<int> part_of(pieces.size(), -1);
+  const auto holds_item = [&](int part, std::size_t p) {
+    if (pieces[p].pieces == 1) return false;
+    for (std::size_t other = 0; other < pieces.size(); ++other)
+      if (part_of[other] == part && pieces[other].item == pieces[p].item) return true;
+    return false;
+  };
+  for (std::size_t p : order) {
+    int lightest = -1;
+    for (int part = 0; part < parts; ++part)
+      if (!holds_item(part, p) && (lightest < 0 || load[static_cast<std::size_t>(part)] < load[static_cast<std::size_t>(lightest)]))
+        lightest = part;
+    part_of[p] = lightest;
+    load[static_cast<std::size_t>(lightest)] += cost(p);
   }
   return part_of;
 }
 
+// Every item cut into its pieces, in work-list order.
+std::vector<ItemPiece> cut(std::span<const double> costs, const std::vector<bool>& spreadable, int parts) {
+  const double fair_share = std::accumulate(costs.begin(), costs.end(), 0.0) / parts;
+  std::vector<ItemPiece> pieces;
+  for (std::size_t item = 0; item < costs.size(); ++item) {
+    const int count = spreadable[item] && costs[item] > fair_share
+                          ? std::min(parts, static_cast<int>(std::ceil(costs[item] / fair_share)))
+                          : 1;
+    for (int piece = 0; piece < count; ++piece) pieces.push_back({item, piece, count});
+  }
+  return pieces;
+}
+
+}  // namespace
+
+std::vector<int> assign_parts(std::span<const double> costs, int parts) {
+  const std::vector<ItemPiece> whole = cut(costs, std::vector<bool>(costs.size(), false), parts);
+  return assign_pieces(costs, whole, parts);
+}
+
 std::vector<std::size_t> items_of(const Shard& shard, std::span<const double> costs) {
-  const std::vector<int> part_of = assign_parts(costs, shard.count);
   std::vector<std::size_t> items;
-  for (std::size_t item = 0; item < part_of.size(); ++item)
-    if (part_of[item] == shard.index - 1) items.push_back(item);
+  for (const ItemPiece& piece : pieces_of(shard, costs, std::vector<bool>(costs.size(), false))) items.push_back(piece.item);
   return items;
+}
+
+std::vector<ItemPiece> pieces_of(const Shard& shard, std::span<const double> costs, const std::vector<bool>& spreadable) {
+  const std::vector<ItemPiece> pieces = cut(costs, spreadable, shard.count);
+  const std::vector<int> part_of = assign_pieces(costs, pieces, shard.count);
+  std::vector<ItemPiece> mine;
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+    if (part_of[p] == shard.index - 1) mine.push_back(pieces[p]);
+  return mine;
 }
 
 std::string work_list_identity(std::span<const std::string> item_keys) {

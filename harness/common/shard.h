@@ -7,7 +7,10 @@
 // is given the same work list computes the same parts; every item belongs to exactly one part;
 // the parts are balanced by cost, not by count, with the longest-processing-time rule (items in
 // decreasing cost, each to the part with the least cost so far, ties to the lower part and the
-// earlier item), which keeps the largest part within 4/3 of the best possible.
+// earlier item), which keeps the largest part within 4/3 of the best possible. An item that may be
+// spread (a stability search, whose probes its pieces share: analysis/stability_pieces.h) and
+// costs more than a part's fair share (the total over N) is cut into pieces of equal cost, as many
+// as it has fair shares (rounded up, at most N), each on a different part; one piece runs it whole.
 #pragma once
 
 #include <cstddef>
@@ -45,6 +48,17 @@ std::vector<int> assign_parts(std::span<const double> costs, int parts);
 
 // The indices of the items `shard` runs, in work-list order.
 std::vector<std::size_t> items_of(const Shard& shard, std::span<const double> costs);
+
+// A piece of a work item: the item, and which of its `pieces` (0-based) a part runs.
+struct ItemPiece {
+  std::size_t item = 0;
+  int piece = 0;
+  int pieces = 1;
+};
+
+// The pieces `shard` runs, in work-list order, items marked in `spreadable` spread as above; with
+// nothing spread, the items of items_of, each whole.
+std::vector<ItemPiece> pieces_of(const Shard& shard, std::span<const double> costs, const std::vector<bool>& spreadable);
 
 // An identity of the whole work list: a hash of every item's key in order, so two shards built
 // from different scenes, settings or builds of the list never merge.

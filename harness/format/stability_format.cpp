@@ -17,9 +17,19 @@ std::string value_text(double value) {
   return text;
 }
 
+// A piece of a spread search holds some verdicts and no result: "piece 1/2".
+std::string piece_text(const TestResult& outcome) {
+  return "piece " + std::to_string(outcome.piece + 1) + "/" + std::to_string(outcome.pieces);
+}
+
+std::string outcome_text(const TestResult& outcome) {
+  return outcome.pieces > 1 ? piece_text(outcome) : to_string(outcome.result.outcome);
+}
+
 // "41" for a boundary (the hardest value that passed); the limit with ">=" or "<=" when nothing
 // failed; the start with "fails at" when even that failed.
 std::string cell(const TestResult& outcome) {
+  if (outcome.pieces > 1) return piece_text(outcome);
   const bool increasing = outcome.search.harder == Harder::increasing;
   switch (outcome.result.outcome) {
     case Outcome::boundary: return value_text(*outcome.result.last_pass);
@@ -116,7 +126,7 @@ nlohmann::ordered_json stability_json(const std::vector<TestResult>& results, co
                     {"limit", outcome.search.limit},
                     {"resolution", outcome.search.resolution},
                     {"scale", outcome.search.scale == Scale::linear ? "linear" : "geometric"},
-                    {"outcome", to_string(outcome.result.outcome)},
+                    {"outcome", outcome_text(outcome)},
                     {"last_pass", optional_json(outcome.result.last_pass)},
                     {"first_fail", optional_json(outcome.result.first_fail)},
                     {"failure", first_failure(outcome.result).reason},
@@ -149,7 +159,7 @@ std::vector<H5Table> stability_tables(const std::vector<TestResult>& results, bo
           column<std::string>(results, "scale", "", [](R r) {
             return std::string(r.search.scale == Scale::linear ? "linear" : "geometric");
           }),
-          column<std::string>(results, "outcome", "", [](R r) { return to_string(r.result.outcome); }),
+          column<std::string>(results, "outcome", "", [](R r) { return outcome_text(r); }),
           column<double>(results, "last_pass", "parameter", [&](R r) { return r.result.last_pass.value_or(none); }),
           column<double>(results, "first_fail", "parameter", [&](R r) { return r.result.first_fail.value_or(none); }),
           column<std::string>(results, "failure", "", [](R r) { return first_failure(r.result).reason; }),
@@ -165,11 +175,15 @@ std::vector<H5Table> stability_tables(const std::vector<TestResult>& results, bo
           }),
           column<std::int32_t>(results, "evaluation_count", "count", [](R r) { return r.result.evaluations.size(); }),
           column<std::int32_t>(results, "work_item", "index", [](R r) { return r.work_item; }),
+          column<std::int32_t>(results, "piece", "index", [](R r) { return r.piece; }),
+          column<std::int32_t>(results, "pieces", "count", [](R r) { return r.pieces; }),
       }};
   std::vector<std::int32_t> owner;
   std::vector<double> parameter;
   std::vector<std::uint8_t> pass;
   std::vector<std::string> reason;
+  std::vector<std::string> criterion;
+  std::vector<std::int32_t> step;
   std::vector<std::string> overrides;
   for (std::size_t row = 0; row < results.size(); ++row) {
     for (std::size_t i = 0; i < results[row].result.evaluations.size(); ++i) {
@@ -178,6 +192,8 @@ std::vector<H5Table> stability_tables(const std::vector<TestResult>& results, bo
       parameter.push_back(evaluation.parameter);
       pass.push_back(evaluation.verdict.pass ? 1 : 0);
       reason.push_back(evaluation.verdict.reason);
+      criterion.push_back(evaluation.verdict.criterion);
+      step.push_back(evaluation.verdict.step.value_or(-1));
       overrides.push_back(results[row].overrides[i]);
     }
   }
@@ -187,6 +203,8 @@ std::vector<H5Table> stability_tables(const std::vector<TestResult>& results, bo
                        {"parameter", "parameter", parameter},
                        {"pass", "flag", pass},
                        {"reason", "", reason},
+                       {"criterion", "", criterion},
+                       {"step", "step", step},
                        {"overrides", "", overrides}}};
   return {std::move(summary), std::move(evaluations)};
 }

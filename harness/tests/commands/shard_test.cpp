@@ -97,6 +97,27 @@ TEST(ShardSplit, BalancesByCostNotByCount) {
   EXPECT_EQ(std::ranges::count(parts, parts[0]), 1);
 }
 
+TEST(ShardSplit, ASpreadableItemAboveAFairShareIsCutIntoPiecesOnDifferentParts) {
+  // A fair share of 3 parts is 10: the first item, 25, is cut in 3 pieces of 8.33, one per part;
+  // the second, as costly but not spreadable, stays whole; a cheap spreadable one stays whole.
+  const std::vector<double> costs{25, 3, 1, 1};
+  const std::vector<bool> spreadable{true, false, true, false};
+  std::vector<std::pair<std::size_t, int>> seen;
+  for (int k = 1; k <= 3; ++k) {
+    const std::vector<ItemPiece> mine = pieces_of({k, 3}, costs, spreadable);
+    EXPECT_EQ(std::ranges::count(mine, std::size_t{0}, &ItemPiece::item), 1) << "part " << k;
+    for (const ItemPiece& piece : mine) {
+      EXPECT_EQ(piece.pieces, piece.item == 0 ? 3 : 1);
+      seen.emplace_back(piece.item, piece.piece);
+    }
+  }
+  std::ranges::sort(seen);
+  const std::vector<std::pair<std::size_t, int>> all{{0, 0}, {0, 1}, {0, 2}, {1, 0}, {2, 0}, {3, 0}};
+  EXPECT_EQ(seen, all);
+  // Unsharded, nothing is spread.
+  for (const ItemPiece& piece : pieces_of({1, 1}, costs, spreadable)) EXPECT_EQ(piece.pieces, 1);
+}
+
 // The shard's command line: `command` with --shard K/3 --out <directory>/shardK.h5.
 std::vector<Ending> run_three_shards(const std::vector<std::string>& command, const fs::path& directory) {
   std::vector<std::unique_ptr<BenchProcess>> shards;
@@ -153,6 +174,10 @@ void expect_same_columns(const H5Table& whole, const H5Table& merged, const std:
 TEST(Merge, ThreeStabilityShardsAsProcessesMergeToTheUnshardedSuite) {
   const fs::path directory = fresh_directory("stability");
   const auto [whole, merged] = unsharded_and_merged({"stability", "--quick"}, directory);
+  // Pyramid on ODE costs more than a third of the suite: its search was spread over the shards.
+  const H5Table first_shard = read_table_h5(directory / "shard1/out.h5", "/stability");
+  EXPECT_TRUE(std::ranges::any_of(std::get<std::vector<std::int32_t>>(named(first_shard, "pieces").values),
+                                  [](std::int32_t pieces) { return pieces == 3; }));
   expect_same_columns(read_table_h5(whole, "/stability"), read_table_h5(merged, "/stability"), {});
   expect_same_columns(read_table_h5(whole, "/stability/evaluations"), read_table_h5(merged, "/stability/evaluations"), {});
   EXPECT_GT(std::get<std::vector<std::string>>(named(read_table_h5(whole, "/stability"), "test").values).size(), 3u);
@@ -230,6 +255,32 @@ TEST(Merge, RefusesGapsDuplicatesAndShardsOfAnotherWorkList) {
   expect_refused(run_bench({"merge", out, one, two, one}, directory), "given twice");
   expect_refused(run_bench({"merge", out, one, (directory / "other.h5").string()}, directory), "work list");
   EXPECT_FALSE(fs::exists(out));
+  fs::remove_all(directory);
+}
+
+// One search alone is more than a shard's fair share, so two shards run a piece of it each; the
+// pieces merge into the unsharded row, and one piece alone is a gap.
+TEST(Merge, TheTwoPiecesOfOneSpreadSearchMergeToItAndOneAloneIsRefused) {
+  const fs::path directory = fresh_directory("pieces");
+  const std::vector<std::string> command{"stability", "--quick", "--engine", "ode", "--test", "pyramid"};
+  std::vector<std::string> whole = command;
+  whole.insert(whole.end(), {"--out", (directory / "whole.h5").string()});
+  ASSERT_EQ(run_bench(whole, directory).exit_code, 0);
+  std::vector<std::string> parts;
+  for (const char* shard : {"1/2", "2/2"}) {
+    std::vector<std::string> arguments = command;
+    parts.push_back((directory / ("part" + std::string(1, shard[0]) + ".h5")).string());
+    arguments.insert(arguments.end(), {"--shard", shard, "--out", parts.back()});
+    const Ending part = run_bench(arguments, directory);
+    ASSERT_EQ(part.exit_code, 0) << part.err;
+    EXPECT_NE(part.out.find("piece " + std::string(shard)), std::string::npos) << part.out;
+  }
+  const std::string out = (directory / "merged.h5").string();
+  ASSERT_EQ(run_bench({"merge", out, parts[1], parts[0]}, directory).exit_code, 0);
+  expect_same_columns(read_table_h5(directory / "whole.h5", "/stability"), read_table_h5(out, "/stability"), {});
+  expect_same_columns(read_table_h5(directory / "whole.h5", "/stability/evaluations"),
+                      read_table_h5(out, "/stability/evaluations"), {});
+  expect_refused(run_bench({"merge", (directory / "alone.h5").string(), parts[0]}, directory), "piece 2/2 is in no file given");
   fs::remove_all(directory);
 }
 
