@@ -61,6 +61,7 @@ MISUSES = [
     Misuse("run: a missing option value", ["run", "--bodies"], "--bodies"),
     Misuse("run: --force without --out", ["run", "--force"], "--force requires --out"),
     Misuse("run: a plugin that is not there", ["run", "--engine", MISSING_PLUGIN], "nonexistent"),
+    Misuse("run: a device as a plugin", ["run", "--engine", "plugin:/dev/zero"], "plugin /dev/zero: not a regular file"),
     Misuse("run: two engines under one label", ["run", "--engine", f"{PLUGIN_AS_FX2D},fx2d"] + SHORT,
            "two engines are named fx2d"),
     Misuse("run: an engine that cannot build the scene", ["run", "pile", "scenes/tests/polygon_and_joint.json",
@@ -106,9 +107,11 @@ MISUSES = [
     Misuse("merge: no shard files", ["merge", "out.h5"], "IN is required"),
     Misuse("merge: a shard that is not there", ["merge", "out.h5", "nosuch.h5"], "nosuch.h5: no such file"),
     Misuse("merge: a scene file as a shard", ["merge", "out.h5", "scenes/pile.json"], "pile.json"),
+    Misuse("merge: a device as a shard", ["merge", "out.h5", "/dev/zero"], "/dev/zero: not a regular file"),
     # report
     Misuse("report: a scene file as results", ["report", "scenes/pile.json", "-o", "out"], "pile.json"),
     Misuse("report: no output directory", ["report", "scenes/pile.json"], "-o"),
+    Misuse("report: a device as results", ["report", "/dev/zero", "-o", "out"], "/dev/zero: not a regular file"),
     Misuse("report: --compare-json from /dev/zero", ["report", "--compare-json", "/dev/zero", "-o", "out"],
            "more than 16 MiB", seconds=INPUT_LIMIT_SECONDS),
     # gate: the policy is read whole
