@@ -150,7 +150,41 @@ TEST_F(PluginCommands, ReportDrawsThePluginsRuns) {
   ASSERT_EQ(ended.exit_code, 0) << ended.err;
   std::ifstream page(path("report/index.html"));
   const std::string html{std::istreambuf_iterator<char>(page), {}};
-  EXPECT_NE(html.find("label"), std::string::npos);
+  // The engine's chip in a row of the runs' table, not merely the word: the command line in the
+  // provenance table names it too.
+  EXPECT_NE(html.find(">label</span></td>"), std::string::npos);
+}
+
+// Chipmunk2D, a plugin of another engine than Fx2D, in compare, report and sweep as the issue asks:
+// its rows judged against Fx2D, its chip in the report, its own front.
+TEST_F(PluginCommands, ChipmunkIsJudgedByCompareAndDrawnByReport) {
+  const Ending run = bench_on_small_stacks("run", {"--repeats", "2", "--engine", "fx2d,chipmunk", "--out", path("c.h5")});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Ending compared = bench({"compare", path("c.h5"), "--baseline", "fx2d", "--json"});
+  ASSERT_EQ(compared.exit_code, 0) << compared.err;
+  const json report = json::parse(compared.out);
+  int chipmunk_step_rows = 0;
+  for (const json& row : report.at("rows"))
+    chipmunk_step_rows += row.at("engine") == "chipmunk" && row.at("metric") == "ms_per_step" ? 1 : 0;
+  EXPECT_EQ(chipmunk_step_rows, 1) << compared.out;
+  const Ending drawn = bench({"report", path("c.h5"), "-o", path("report")});
+  ASSERT_EQ(drawn.exit_code, 0) << drawn.err;
+  std::ifstream page(path("report/index.html"));
+  const std::string html{std::istreambuf_iterator<char>(page), {}};
+  // A chip in a row of the runs' table; the page's header names every registered engine, run or not.
+  EXPECT_NE(html.find(">chipmunk</span></td>"), std::string::npos);
+}
+
+TEST_F(PluginCommands, SweepOfEveryEngineGivesChipmunkItsOwnFront) {
+  const Ending ended = bench_on_small_stacks("sweep", {"--repeats", "1", "--engine", "all", "--json"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  const json sweep = json::parse(ended.out);
+  std::vector<std::string> fronts;
+  for (const json& front : sweep.at("fronts")) fronts.push_back(front.at("engine"));
+  EXPECT_EQ(fronts, (std::vector<std::string>{"fx2d", "box2d", "ode", "chipmunk"}));
+  int chipmunk_points = 0;
+  for (const json& point : sweep.at("points")) chipmunk_points += point.at("engine") == "chipmunk" ? 1 : 0;
+  EXPECT_GE(chipmunk_points, 3) << "the iterations axis and the scene's own point";
 }
 
 TEST_F(PluginCommands, AKnobOutOfItsRangeIsRefusedInOneLineBeforeMeasuring) {
