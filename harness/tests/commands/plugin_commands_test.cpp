@@ -6,6 +6,7 @@
 // swept and listed, its capabilities refusing a scene before anything is measured.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -292,6 +293,34 @@ TEST_F(PluginCommands, EnginesListsEachEnginesKnobs) {
       << ended.out;
   EXPECT_NE(ended.out.find("ode.iterations, ode.erp, ode.cfm, ode.auto_disable"), std::string::npos)
       << ended.out;
+}
+
+TEST_F(PluginCommands, EnginesKnobsGivesEachKnobsRangeDefaultAndDescription) {
+  const Ending ended = bench({"engines", "--knobs", "--engine", "chipmunk"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  EXPECT_EQ(std::count(ended.out.begin(), ended.out.end(), '\n'), 4) << ended.out;
+  EXPECT_NE(ended.out.find("chipmunk.iterations      an integer from 1 to 1000  default 10     solver iterations per "
+                           "step (cpSpaceSetIterations)\n"),
+            std::string::npos)
+      << ended.out;
+  EXPECT_NE(ended.out.find("chipmunk.collision_slop  a number from 0 to 1       default 0.005  overlap allowed"),
+            std::string::npos)
+      << ended.out;
+}
+
+// A plugin named on the command line is listed as any engine: its label, its file, its knobs.
+TEST_F(PluginCommands, EnginesListsAPluginGivenByPathWithItsKnobs) {
+  const Ending ended = bench({"engines", "--json", "--engine", labelled_plugin});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  const json engines = json::parse(ended.out).at("engines");
+  ASSERT_EQ(engines.size(), 1u);
+  EXPECT_EQ(engines[0].at("name"), "label");
+  EXPECT_EQ(engines[0].at("plugin"), std::filesystem::absolute(FX2D_BENCH_PLUGIN).lexically_normal().string());
+  const json& substeps = engines[0].at("knobs").at(0);
+  EXPECT_EQ(substeps.at("name"), "substeps");
+  EXPECT_EQ(substeps.at("type"), "integer");
+  EXPECT_EQ(substeps.at("default"), 8);
+  EXPECT_FALSE(substeps.at("description").get<std::string>().empty());
 }
 
 // The same refusal from the command line, as the issue asks of every built-in engine's knobs.
