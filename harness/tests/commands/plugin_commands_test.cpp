@@ -102,15 +102,29 @@ TEST_F(PluginCommands, AbOfAPluginAgainstACopyOfItselfFindsTheSamePhysics) {
   EXPECT_EQ(step_rows, 1);
 }
 
-TEST_F(PluginCommands, GateJudgesTheAbOfAPlugin) {
-  const Ending ab = ab_of_plugin_copies(*this, copy_of(FX2D_BENCH_PLUGIN, "other.so"));
+// The gate's rows for an `ab` of `plugin` against `copy`, another build of it: one, of stacks,
+// named after the engine.
+void expect_gate_judges_ab_of(const PluginCommands& test, const std::string& plugin, const std::string& copy,
+                              const std::string& engine) {
+  const Ending ab = test.bench_on_small_stacks("ab", {"--a", plugin, "--b", copy, "--rounds", "6", "--json"});
   ASSERT_NE(ab.exit_code, 2) << ab.err;
-  { std::ofstream(path("ab.json")) << ab.out; }
-  const Ending gate = bench({"gate", "--policy", std::string(FX2D_SOURCE_DIR) + "/ci/gating.json", path("ab.json"), "--json"});
+  { std::ofstream(test.path("ab.json")) << ab.out; }
+  const Ending gate =
+      test.bench({"gate", "--policy", std::string(FX2D_SOURCE_DIR) + "/ci/gating.json", test.path("ab.json"), "--json"});
   ASSERT_NE(gate.exit_code, 2) << gate.err;
   const json rows = json::parse(gate.out).at("rows");
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0].at("scene"), "stacks");
+  EXPECT_EQ(rows[0].at("engine"), engine);
+}
+
+TEST_F(PluginCommands, GateJudgesTheAbOfAPlugin) {
+  expect_gate_judges_ab_of(*this, FX2D_BENCH_PLUGIN, copy_of(FX2D_BENCH_PLUGIN, "other.so"), "fx2d");
+}
+
+TEST_F(PluginCommands, GateJudgesTheAbOfAnotherEnginesPlugin) {
+  expect_gate_judges_ab_of(*this, FX2D_BENCH_CHIPMUNK_PLUGIN, copy_of(FX2D_BENCH_CHIPMUNK_PLUGIN, "other.so"),
+                           "chipmunk");
 }
 
 TEST_F(PluginCommands, SweepMeasuresThePluginsOwnGridAndFront) {
