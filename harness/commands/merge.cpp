@@ -10,6 +10,7 @@
 
 #include "analysis/shard_merge.h"
 #include "commands/commands.h"
+#include "common/bounded_read.h"
 #include "common/errors.h"
 #include "storage/file_integrity.h"
 #include "storage/h5_tables.h"
@@ -28,7 +29,7 @@ struct MergeOptions {
 constexpr const char* shard_tables[] = {"/sweep", "/stability", "/shard"};
 
 ShardFile read_shard(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
+  require_regular_file(path, path);
   if (carries_h5_seal(path)) verify_h5_seal(path);
   ShardFile file{path, read_results_h5(path), {}, {}, {}, 0, {}};
   const auto kind = std::ranges::find_if(shard_tables, [&](const char* table) { return has_table_h5(path, table); });

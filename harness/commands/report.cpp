@@ -57,7 +57,7 @@ struct ReportOptions {
 // A result file (runs, sweeps, stability tables all share its layout) is read in full, so a
 // damaged one is named here; a history file's layout is the renderer's to read.
 void check_h5_input(const std::string& path) {
-  if (!fs::is_regular_file(path)) throw InputError(path + ": no such file");
+  require_regular_file(path, path);
   // A sealed file, result or history, is checked against its seal before libhdf5 opens it
   // (file_integrity.h). An unsealed result file is refused by read_results_h5; an unsealed history
   // file comes from an fx2d-bench older than the seal on history files and is still accepted.

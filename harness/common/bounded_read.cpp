@@ -63,4 +63,11 @@ std::string read_bounded_file(const std::string& path, const std::string& kind, 
   throw too_large();
 }
 
+void require_regular_file(const std::string& path, const std::string& named) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) throw InputError(named + ": no such file");
+  if (!std::filesystem::is_regular_file(status)) throw InputError(named + ": not a regular file");
+}
+
 }  // namespace fxbench

@@ -19,4 +19,9 @@ inline constexpr std::size_t max_input_file_bytes = std::size_t{16} << 20;
 std::string read_bounded_file(const std::string& path, const std::string& kind,
                               std::size_t max_bytes = max_input_file_bytes);
 
+// Refuses `path` unless it is a regular file (or a link to one), in one line that begins with
+// `named` and says which: "no such file" when nothing is there, "not a regular file" for a device,
+// a FIFO or a directory, which a library loader or HDF5 cannot read.
+void require_regular_file(const std::string& path, const std::string& named);
+
 }  // namespace fxbench

@@ -95,6 +95,8 @@ struct EngineInfo {
 // that is no knob or a value out of its range.
 std::vector<double> knob_values(const std::string& solver, std::span<const Knob> knobs,
                                 const SceneSpec& scene);
+// What `knob` takes, as errors and listings say it: "an integer from 1 to 1000", "true or false".
+std::string knob_range_text(const Knob& knob);
 // The engine's settings in `scene` as a JSON object: the resolved /solver/<solver> block, with
 // every knob it leaves out at its default. What result files record as the settings of a run.
 std::string engine_settings_json(const EngineInfo& engine, const SceneSpec& scene);

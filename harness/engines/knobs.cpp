@@ -24,15 +24,9 @@ Json solver_block(const std::string& solver, const SceneSpec& scene) {
   return resolved["solver"].value(solver, Json::object());
 }
 
-std::string range_text(const Knob& knob) {
-  if (knob.type == Knob::Type::boolean) return "true or false";
-  const std::string kind = knob.type == Knob::Type::integer ? "an integer" : "a number";
-  return kind + formatted(" from %g", knob.min) + formatted(" to %g", knob.max);
-}
-
 double checked_value(const Knob& knob, const Json& value, const std::string& where) {
   const auto refuse = [&] {
-    throw InputError(where + ": expected " + range_text(knob) + ", got " + value.dump());
+    throw InputError(where + ": expected " + knob_range_text(knob) + ", got " + value.dump());
   };
   if (knob.type == Knob::Type::boolean) {
     if (!value.is_boolean()) refuse();
@@ -46,6 +40,12 @@ double checked_value(const Knob& knob, const Json& value, const std::string& whe
 }
 
 }  // namespace
+
+std::string knob_range_text(const Knob& knob) {
+  if (knob.type == Knob::Type::boolean) return "true or false";
+  const std::string kind = knob.type == Knob::Type::integer ? "an integer" : "a number";
+  return kind + formatted(" from %g", knob.min) + formatted(" to %g", knob.max);
+}
 
 std::vector<double> knob_values(const std::string& solver, std::span<const Knob> knobs,
                                 const SceneSpec& scene) {

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/bounded_read.h"
 #include "common/errors.h"
 
 namespace fxbench {
@@ -232,7 +233,7 @@ Plugin::Plugin(void* library, const Fx2dBenchPlugin* table, std::string path)
 
 std::shared_ptr<const Plugin> Plugin::load(const std::string& path) {
   const std::string absolute = std::filesystem::absolute(path).lexically_normal().string();
-  if (!std::filesystem::is_regular_file(absolute)) throw InputError("plugin " + path + ": no such file");
+  require_regular_file(absolute, "plugin " + path);
   void* library = open_library(absolute);
   if (library == nullptr) throw InputError("plugin " + path + ": cannot load: " + loader_error());
   const auto close_and_fail = [&](const std::string& message) {

@@ -6,6 +6,7 @@
 // swept and listed, its capabilities refusing a scene before anything is measured.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -101,15 +102,29 @@ TEST_F(PluginCommands, AbOfAPluginAgainstACopyOfItselfFindsTheSamePhysics) {
   EXPECT_EQ(step_rows, 1);
 }
 
-TEST_F(PluginCommands, GateJudgesTheAbOfAPlugin) {
-  const Ending ab = ab_of_plugin_copies(*this, copy_of(FX2D_BENCH_PLUGIN, "other.so"));
+// The gate's rows for an `ab` of `plugin` against `copy`, another build of it: one, of stacks,
+// named after the engine.
+void expect_gate_judges_ab_of(const PluginCommands& test, const std::string& plugin, const std::string& copy,
+                              const std::string& engine) {
+  const Ending ab = test.bench_on_small_stacks("ab", {"--a", plugin, "--b", copy, "--rounds", "6", "--json"});
   ASSERT_NE(ab.exit_code, 2) << ab.err;
-  { std::ofstream(path("ab.json")) << ab.out; }
-  const Ending gate = bench({"gate", "--policy", std::string(FX2D_SOURCE_DIR) + "/ci/gating.json", path("ab.json"), "--json"});
+  { std::ofstream(test.path("ab.json")) << ab.out; }
+  const Ending gate =
+      test.bench({"gate", "--policy", std::string(FX2D_SOURCE_DIR) + "/ci/gating.json", test.path("ab.json"), "--json"});
   ASSERT_NE(gate.exit_code, 2) << gate.err;
   const json rows = json::parse(gate.out).at("rows");
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0].at("scene"), "stacks");
+  EXPECT_EQ(rows[0].at("engine"), engine);
+}
+
+TEST_F(PluginCommands, GateJudgesTheAbOfAPlugin) {
+  expect_gate_judges_ab_of(*this, FX2D_BENCH_PLUGIN, copy_of(FX2D_BENCH_PLUGIN, "other.so"), "fx2d");
+}
+
+TEST_F(PluginCommands, GateJudgesTheAbOfAnotherEnginesPlugin) {
+  expect_gate_judges_ab_of(*this, FX2D_BENCH_CHIPMUNK_PLUGIN, copy_of(FX2D_BENCH_CHIPMUNK_PLUGIN, "other.so"),
+                           "chipmunk");
 }
 
 TEST_F(PluginCommands, SweepMeasuresThePluginsOwnGridAndFront) {
@@ -150,7 +165,41 @@ TEST_F(PluginCommands, ReportDrawsThePluginsRuns) {
   ASSERT_EQ(ended.exit_code, 0) << ended.err;
   std::ifstream page(path("report/index.html"));
   const std::string html{std::istreambuf_iterator<char>(page), {}};
-  EXPECT_NE(html.find("label"), std::string::npos);
+  // The engine's chip in a row of the runs' table, not merely the word: the command line in the
+  // provenance table names it too.
+  EXPECT_NE(html.find(">label</span></td>"), std::string::npos);
+}
+
+// Chipmunk2D, a plugin of another engine than Fx2D, in compare, report and sweep as the issue asks:
+// its rows judged against Fx2D, its chip in the report, its own front.
+TEST_F(PluginCommands, ChipmunkIsJudgedByCompareAndDrawnByReport) {
+  const Ending run = bench_on_small_stacks("run", {"--repeats", "2", "--engine", "fx2d,chipmunk", "--out", path("c.h5")});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Ending compared = bench({"compare", path("c.h5"), "--baseline", "fx2d", "--json"});
+  ASSERT_EQ(compared.exit_code, 0) << compared.err;
+  const json report = json::parse(compared.out);
+  int chipmunk_step_rows = 0;
+  for (const json& row : report.at("rows"))
+    chipmunk_step_rows += row.at("engine") == "chipmunk" && row.at("metric") == "ms_per_step" ? 1 : 0;
+  EXPECT_EQ(chipmunk_step_rows, 1) << compared.out;
+  const Ending drawn = bench({"report", path("c.h5"), "-o", path("report")});
+  ASSERT_EQ(drawn.exit_code, 0) << drawn.err;
+  std::ifstream page(path("report/index.html"));
+  const std::string html{std::istreambuf_iterator<char>(page), {}};
+  // A chip in a row of the runs' table; the page's header names every registered engine, run or not.
+  EXPECT_NE(html.find(">chipmunk</span></td>"), std::string::npos);
+}
+
+TEST_F(PluginCommands, SweepOfEveryEngineGivesChipmunkItsOwnFront) {
+  const Ending ended = bench_on_small_stacks("sweep", {"--repeats", "1", "--engine", "all", "--json"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  const json sweep = json::parse(ended.out);
+  std::vector<std::string> fronts;
+  for (const json& front : sweep.at("fronts")) fronts.push_back(front.at("engine"));
+  EXPECT_EQ(fronts, (std::vector<std::string>{"fx2d", "box2d", "ode", "chipmunk"}));
+  int chipmunk_points = 0;
+  for (const json& point : sweep.at("points")) chipmunk_points += point.at("engine") == "chipmunk" ? 1 : 0;
+  EXPECT_GE(chipmunk_points, 3) << "the iterations axis and the scene's own point";
 }
 
 TEST_F(PluginCommands, AKnobOutOfItsRangeIsRefusedInOneLineBeforeMeasuring) {
@@ -258,6 +307,34 @@ TEST_F(PluginCommands, EnginesListsEachEnginesKnobs) {
       << ended.out;
   EXPECT_NE(ended.out.find("ode.iterations, ode.erp, ode.cfm, ode.auto_disable"), std::string::npos)
       << ended.out;
+}
+
+TEST_F(PluginCommands, EnginesKnobsGivesEachKnobsRangeDefaultAndDescription) {
+  const Ending ended = bench({"engines", "--knobs", "--engine", "chipmunk"});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  EXPECT_EQ(std::count(ended.out.begin(), ended.out.end(), '\n'), 4) << ended.out;
+  EXPECT_NE(ended.out.find("chipmunk.iterations      an integer from 1 to 1000  default 10     solver iterations per "
+                           "step (cpSpaceSetIterations)\n"),
+            std::string::npos)
+      << ended.out;
+  EXPECT_NE(ended.out.find("chipmunk.collision_slop  a number from 0 to 1       default 0.005  overlap allowed"),
+            std::string::npos)
+      << ended.out;
+}
+
+// A plugin named on the command line is listed as any engine: its label, its file, its knobs.
+TEST_F(PluginCommands, EnginesListsAPluginGivenByPathWithItsKnobs) {
+  const Ending ended = bench({"engines", "--json", "--engine", labelled_plugin});
+  ASSERT_EQ(ended.exit_code, 0) << ended.err;
+  const json engines = json::parse(ended.out).at("engines");
+  ASSERT_EQ(engines.size(), 1u);
+  EXPECT_EQ(engines[0].at("name"), "label");
+  EXPECT_EQ(engines[0].at("plugin"), std::filesystem::absolute(FX2D_BENCH_PLUGIN).lexically_normal().string());
+  const json& substeps = engines[0].at("knobs").at(0);
+  EXPECT_EQ(substeps.at("name"), "substeps");
+  EXPECT_EQ(substeps.at("type"), "integer");
+  EXPECT_EQ(substeps.at("default"), 8);
+  EXPECT_FALSE(substeps.at("description").get<std::string>().empty());
 }
 
 // The same refusal from the command line, as the issue asks of every built-in engine's knobs.

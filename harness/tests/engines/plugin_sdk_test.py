@@ -3,7 +3,8 @@
 moved elsewhere (so nothing can be found by the path it was installed to), its fx2d-bench loading
 Chipmunk2D's plugin from the moved prefix; the template (harness/plugin/template) configured against
 the moved SDK with find_package(Fx2dBench) and built out of tree, then run by the installed
-fx2d-bench beside Fx2D and Chipmunk2D, the template's knob checked and swept, and timed by `ab`
+fx2d-bench beside Fx2D and Chipmunk2D, the template's knob checked and swept, its stability measured on
+the tests it can build (and the whole suite refused at the one it cannot), and timed by `ab`
 against another build of itself; `ab` of a revision told in one line that --source names no tree.
 
 Usage: plugin_sdk_test.py CMAKE BUILD_DIR SOURCE_DIR"""
@@ -54,6 +55,15 @@ def main():
                                 "--engine", f"plugin:{plugin}|mine", "--axis", "my_engine.substeps=2,4",
                                 "--json"]).stdout)
         assert [point["settings"]["substeps"] for point in sweep["points"]] == [2, 4, 1], sweep["points"]
+        # stability on the tests the template can build; the whole suite ends at the one it cannot.
+        stability = json.loads(run([bench, "stability", "--quick", "--test", "card_house,thin_wall", "--engine",
+                                    f"plugin:{plugin}|mine", "--json"]).stdout)
+        assert [result["engine"] for result in stability["results"]] == ["mine", "mine"], stability
+        refused = subprocess.run([bench, "stability", "--quick", "--engine", f"plugin:{plugin}|mine"],
+                                 capture_output=True, text=True)
+        assert refused.returncode == 2, refused
+        assert refused.stderr == ("fx2d-bench: scene stability_chain_load: engine mine cannot build revolute "
+                                  "joints\n"), refused.stderr
         # ab of an engine plugin against another build of itself: the same adapter built again.
         rebuilt = Path(scratch) / "rebuilt"
         run([cmake, "-S", Path(source) / "harness/plugin/template", "-B", rebuilt,
