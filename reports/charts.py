@@ -88,6 +88,15 @@ def sweep_groups(tables):
     return groups
 
 
+def _engine_line_styles(series):
+    """(series, line style) for lines coloured by engine: an engine's lines take the styles in turn."""
+    line_styles = ["-", "--", ":", "-."]
+    per_engine = {}
+    for s in series:
+        yield s, line_styles[per_engine.setdefault(s["engine"], 0) % len(line_styles)]
+        per_engine[s["engine"]] += 1
+
+
 def _plain_log_ticks(axis):
     """Ticks at 1, 2 and 5 of each decade, written as plain numbers: a log axis a reader can read."""
     axis.set_major_locator(ticker.LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
@@ -225,6 +234,30 @@ def phase_split(runs, bar_label, out_dir):
     return _save(figure, out_dir, "phase_split")
 
 
+# --- scaling with workers -------------------------------------------------------------------------
+
+def speedup(series, out_dir):
+    """Speedup against workers, one line per engine, scene, size and setting (report_data's
+    worker_scaling), with the ideal line speedup = workers."""
+    if not series:
+        return None
+    figure, axes = plt.subplots(figsize=(7.6, 5.2))
+    most = max(max(s["workers"]) for s in series)
+    axes.plot([1, most], [1, most], "--", color="#999", lw=1.2, label="ideal (speedup = workers)")
+    for s, style in _engine_line_styles(series):
+        label = f"{s['engine']} · {s['scene']} · {s['bodies']}" + (f" · {s['setting']}" if s["setting"] else "")
+        axes.plot(s["workers"], s["speedup"], style, marker="o", ms=5, color=engine_colour(s["engine"]), lw=1.8,
+                  label=label)
+    axes.xaxis.set_major_locator(ticker.MaxNLocator(integer=True))
+    axes.set_xlim(0.8, most + 0.2)
+    axes.set_ylim(0, max(most, max((v for s in series for v in s["speedup"] if math.isfinite(v)), default=0)) * 1.08)
+    axes.set_title("Speedup against workers")
+    axes.set_xlabel("workers (threads a step may use)")
+    axes.set_ylabel("speedup: median ms/step at 1 worker / at k")
+    axes.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=1, frameon=False)
+    return _save(figure, out_dir, "speedup_workers")
+
+
 # --- A/B comparison -------------------------------------------------------------------------------
 
 def ab_forest(report, rows, row_label, out_dir, name):
@@ -311,11 +344,7 @@ def history_trend(series, metric, label, out_dir):
     if not series:
         return None
     figure, axes = plt.subplots(figsize=(10, 4.8))
-    line_styles = ["-", "--", ":", "-."]
-    per_engine = {}
-    for s in series:
-        style = line_styles[per_engine.setdefault(s["engine"], 0) % len(line_styles)]
-        per_engine[s["engine"]] += 1
+    for s, style in _engine_line_styles(series):
         colour = engine_colour(s["engine"])
         xs, ys = s["x"], s["candidate"]
         axes.plot(xs, ys, style, marker="o", ms=3.5, color=colour, lw=1.6, label=s["label"])

@@ -40,6 +40,7 @@ SECTIONS = [
     ("runs", "Runs"),
     ("phases", "Phase split"),
     ("speed-accuracy", "Speed against accuracy"),
+    ("scaling", "Scaling with workers"),
     ("ab", "A/B comparison"),
     ("stability", "Stability"),
     ("history", "Nightly history"),
@@ -181,6 +182,29 @@ def default_standing(sweep, rows):
         result.append([esc(c["scene"][r]), str(int(c["bodies"][r])), chip(c["engine"][r]), esc(c["settings"][r]),
                        f'{c["ms_per_step"][r]:.3f}', number(c["primary_error"][r] * 1e3), where])
     return result
+
+
+def scaling_section(files, out_dir):
+    series = [s for f in files if f.sweep is not None and len(f.sweep)
+              for s in report_data.worker_scaling(f.sweep, f.sweep_runs)]
+    if not series:
+        return note("No sweep over an engine's thread count among the inputs: <code>fx2d-bench sweep SCENE "
+                    "--engine fx2d --axis fx2d.workers=1,2,3,4 --out sweep.h5</code> makes one.")
+    parts = [figure(charts.speedup(series, out_dir),
+                    "Speedup (median ms/step at 1 worker over that at k) against workers, per engine, scene, size "
+                    "and setting of the other knobs; the dashed line is the ideal, speedup = workers.")]
+    for engine in dict.fromkeys(s["engine"] for s in series):
+        mine = [s for s in series if s["engine"] == engine]
+        names = list(dict.fromkeys(name for s in mine for phases in s["phases"] for name, _ in phases))
+        rows = []
+        for s in mine:
+            rows.append(f"{esc(s['scene'])} · {s['bodies']} bodies" + (f" · {esc(s['setting'])}" if s["setting"] else ""))
+            for workers, ms, speed, phases in zip(s["workers"], s["ms"], s["speedup"], s["phases"]):
+                split = dict(phases)
+                rows.append([str(workers), f"{ms:.4g}", number(speed)] + [number(split.get(n)) for n in names])
+        parts.append(f"<h3>{chip(engine)} phase split per {esc(mine[0]['knob'])} count</h3>")
+        parts.append(table([esc(mine[0]["knob"]), "ms/step", "speedup"] + [f"{esc(n)} ms" for n in names], rows))
+    return "".join(parts)
 
 
 def ab_file_section(files, out_dir):
@@ -431,6 +455,7 @@ def render(arguments):
         "runs": runs_section(files),
         "phases": phases_section(files, out_dir),
         "speed-accuracy": speed_accuracy_section(files, out_dir),
+        "scaling": scaling_section(files, out_dir),
         "ab": ab_section(compare_reports, files, out_dir),
         "stability": stability_section(files, out_dir),
         "history": history_section(files, out_dir),

@@ -74,6 +74,7 @@ class InputFile:
     provenance: dict
     runs: list = field(default_factory=list)
     sweep: Table = None
+    sweep_runs: list = field(default_factory=list)  # a sweep's /runs/k by k: each point's phases
     stability: dict = field(default_factory=dict)   # table name -> Table, "" for /stability itself
     history: Table = None  # the nightly history (/history), read by its documented columns
 
@@ -197,14 +198,64 @@ def read_h5(path, label):
             if "history" in f:
                 loaded.history = _read_history(f["history"])
             plain_run_file = loaded.sweep is None and not loaded.stability and loaded.history is None
-            if plain_run_file and "runs" in f:
+            if (plain_run_file or loaded.sweep is not None) and "runs" in f:
                 primary = {_text(s.attrs["hash"]): _text(s.attrs["primary_metric"]) for s in _numbered(f["scenes"])}
-                loaded.runs = [_read_run(run, label, primary) for run in _numbered(f["runs"])]
+                runs = [_read_run(run, label, primary) for run in _numbered(f["runs"])]
+                if plain_run_file:
+                    loaded.runs = runs
+                else:
+                    loaded.sweep_runs = runs
             return loaded
     except OSError as error:
         raise InputProblem(f"{path}: cannot read as HDF5: {error}") from None
     except KeyError as error:
         raise InputProblem(f"{path}: missing member {error}") from None
+
+
+# --- scaling with workers (a sweep over an engine's thread count) ----------------------------------
+
+# The knob names that count an engine's threads: Fx2D's `workers`, Chipmunk2D's `threads`.
+WORKER_KNOBS = ("workers", "threads")
+
+
+def _worker_column(sweep, engine, rows):
+    """The engine's thread-count column when the sweep varied it over these rows, else None."""
+    for knob in WORKER_KNOBS:
+        name = f"{engine}_{knob}"
+        if name in sweep.columns and len({int(sweep.columns[name][r]) for r in rows}) > 1:
+            return name
+    return None
+
+
+def worker_scaling(sweep, sweep_runs):
+    """One series per engine, scene, size and setting of the other knobs of a sweep whose points
+    differ in a thread-count knob: workers ascending, each point's median ms/step, its speedup
+    (median ms/step at 1 worker over that at k; NaN without a 1-worker point) and its phase split
+    (the point's run's [(phase, median ms)], empty for an engine that reports none)."""
+    c = sweep.columns
+    series = {}
+    for engine in dict.fromkeys(c["engine"]):
+        mine = [r for r in range(len(sweep)) if c["engine"][r] == engine]
+        column = _worker_column(sweep, engine, mine)
+        if column is None:
+            continue
+        others = [name for name in c if name.startswith(engine + "_") and name != column]
+        for r in mine:
+            setting = ", ".join(f"{name[len(engine) + 1:]} {int(c[name][r])}" for name in others if c[name][r] >= 0)
+            key = (engine, c["scene"][r], int(c["bodies"][r]), setting, float(c["dt"][r]))
+            entry = series.setdefault(key, {"engine": engine, "scene": c["scene"][r], "bodies": int(c["bodies"][r]),
+                                            "setting": setting, "knob": column[len(engine) + 1:], "points": []})
+            run = sweep_runs[int(c["run"][r])] if int(c["run"][r]) < len(sweep_runs) else None
+            entry["points"].append((int(c[column][r]), float(c["ms_per_step"][r]), run.phases if run else []))
+    for entry in series.values():
+        entry["points"].sort(key=lambda point: point[0])
+        one = [ms for workers, ms, _ in entry["points"] if workers == 1]
+        entry["workers"] = [workers for workers, _, _ in entry["points"]]
+        entry["ms"] = [ms for _, ms, _ in entry["points"]]
+        entry["speedup"] = [one[0] / ms if one and ms > 0 else float("nan") for ms in entry["ms"]]
+        entry["phases"] = [phases for _, _, phases in entry.pop("points")]
+    # The scene's default setting, measured at its own worker count alone, is no series.
+    return [entry for entry in series.values() if len(entry["workers"]) > 1]
 
 
 # --- A/B inside one run file (`fx2d-bench ab --out`: engines X@A and X@B) ----------------------------

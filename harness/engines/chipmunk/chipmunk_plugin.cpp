@@ -9,12 +9,16 @@
 // joints are pin joints, revolute joints pivot joints at body A's anchor in the world.
 // Chipmunk's defaults are tuned for pixels: the collision slop is a knob in metres instead.
 #include <chipmunk/chipmunk.h>
+extern "C" {  // chipmunk.h declares its own functions so; this header, outside it, does not
+#include <chipmunk/cpHastySpace.h>
+}
 
 #include <fcntl.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "fx2d_bench_plugin.hpp"
@@ -23,8 +27,10 @@ namespace {
 
 // Debian's Chipmunk is a debug build (runtime assertions on), which prints a banner on stdout at
 // its first space. stdout is fx2d-bench's data (JSON, tables) and stderr says only what went wrong,
-// so that first space is made with stdout sent to /dev/null.
-cpSpace* new_space() {
+// so that first space is made with stdout sent to /dev/null. More than one thread takes a hasty space
+// (cpHastySpace.h, two threads at most), stepped and freed by its own calls; one thread keeps the
+// plain space, so results at the default are those of a build without the knob.
+cpSpace* new_space(int threads) {
   static const bool banner_dropped = [] {
     std::fflush(stdout);
     const int saved = dup(STDOUT_FILENO);
@@ -37,16 +43,26 @@ cpSpace* new_space() {
     close(saved);
     return true;
   }();
-  return banner_dropped ? cpSpaceNew() : nullptr;
+  if (!banner_dropped) return nullptr;
+  if (threads == 1) return cpSpaceNew();
+  cpSpace* space = cpHastySpaceNew();
+  cpHastySpaceSetThreads(space, static_cast<unsigned long>(threads));
+  return space;
 }
 
-enum Knob { iterations, sleeping, sleep_time, collision_slop, knob_count };
+struct FreeSpace {
+  bool hasty;
+  void operator()(cpSpace* space) const { hasty ? cpHastySpaceFree(space) : cpSpaceFree(space); }
+};
+
+enum Knob { iterations, sleeping, sleep_time, collision_slop, threads, knob_count };
 
 constexpr Fx2dBenchKnob knobs[knob_count] = {
     {"iterations", FX2D_BENCH_KNOB_INTEGER, 1, 1000, 10, "solver iterations per step (cpSpaceSetIterations)"},
     {"sleeping", FX2D_BENCH_KNOB_BOOLEAN, 0, 1, 1, "let resting bodies sleep"},
     {"sleep_time", FX2D_BENCH_KNOB_NUMBER, 0.01, 100, 0.5, "seconds idle before a body sleeps, s"},
     {"collision_slop", FX2D_BENCH_KNOB_NUMBER, 0, 1, 0.005, "overlap allowed between shapes, m"},
+    {"threads", FX2D_BENCH_KNOB_INTEGER, 1, 2, 1, "solver threads (cpHastySpaceSetThreads; 2 at most)"},
 };
 
 cpVect to_cp(Fx2dBenchVec2 v) { return cpv(v.x, v.y); }
@@ -68,7 +84,9 @@ cpShape* make_shape(cpBody* body, const Fx2dBenchBody& spec) {
 
 class ChipmunkWorld {
  public:
-  explicit ChipmunkWorld(const Fx2dBenchScene& scene) : dt_(scene.dt) {
+  explicit ChipmunkWorld(const Fx2dBenchScene& scene)
+      : space_(new_space(static_cast<int>(scene.settings[threads])), FreeSpace{scene.settings[threads] > 1}),
+        dt_(scene.dt) {
     const double* knob = scene.settings;
     cpSpaceSetGravity(space_.get(), to_cp(scene.gravity));
     cpSpaceSetIterations(space_.get(), static_cast<int>(knob[iterations]));
@@ -89,7 +107,9 @@ class ChipmunkWorld {
     for (const auto& body : bodies_) cpBodyActivate(body.get());
   }
 
-  void step() { cpSpaceStep(space_.get(), dt_); }
+  void step() {
+    space_.get_deleter().hasty ? cpHastySpaceStep(space_.get(), dt_) : cpSpaceStep(space_.get(), dt_);
+  }
 
   // Touching pairs of bodies (one shape per body here), sleeping ones included: each arbiter is
   // seen from both its bodies but counted from one, the static one never being walked.
@@ -154,7 +174,7 @@ class ChipmunkWorld {
   std::vector<fx2d_bench::Owned<cpBody, cpBodyFree>> bodies_;  // in the scene's order
   std::vector<fx2d_bench::Owned<cpShape, cpShapeFree>> shapes_;
   std::vector<fx2d_bench::Owned<cpConstraint, cpConstraintFree>> joints_;
-  fx2d_bench::Owned<cpSpace, cpSpaceFree> space_{new_space()};
+  std::unique_ptr<cpSpace, FreeSpace> space_;
   double dt_;
 };
 

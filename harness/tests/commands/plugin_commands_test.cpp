@@ -218,7 +218,33 @@ TEST_F(PluginCommands, AKeyThatIsNoKnobIsRefusedWithTheKnobsItCouldBe) {
   EXPECT_EQ(ended.exit_code, 2);
   EXPECT_EQ(ended.err,
             "fx2d-bench: scene stacks: /solver/chipmunk/iteration: not a knob of chipmunk; expected one of "
-            "iterations, sleeping, sleep_time, collision_slop\n");
+            "iterations, sleeping, sleep_time, collision_slop, threads\n");
+}
+
+// chipmunk.threads 2 steps a hasty space (cpHastySpace.h) with two solver threads: the pile stays
+// whole and overlaps as much as on one thread. Not bit for bit: repeats on two threads may end in
+// different states (harness/README.md), so only the physics is compared.
+TEST_F(PluginCommands, ChipmunkOnTwoThreadsKeepsThePileAsOnOne) {
+  const auto penetration = [&](const char* threads) {
+    const Ending ended = bench({"run", "pile", "--bodies", "300", "--steps", "120", "--engine", "chipmunk",
+                                "--json", "--set", "/solver/chipmunk/sleeping=false", "--set",
+                                std::string("/solver/chipmunk/threads=") + threads});
+    EXPECT_EQ(ended.exit_code, 0) << ended.err;
+    const json accuracy = json::parse(ended.out).at("runs").at(0).at("accuracy");
+    EXPECT_EQ(accuracy.at("nan"), 0);
+    EXPECT_EQ(accuracy.at("escaped"), 0);
+    return accuracy.at("max_penetration").get<double>();
+  };
+  const double one = penetration("1");
+  EXPECT_NEAR(penetration("2"), one, 0.005) << "worst penetration, m; one thread: " << one;
+}
+
+TEST_F(PluginCommands, ChipmunkThreadsBeyondTheTwoItRunsAreRefusedInOneLine) {
+  const Ending ended =
+      bench({"run", "stacks", "--engine", "chipmunk", "--set", "/solver/chipmunk/threads=3"});
+  EXPECT_EQ(ended.exit_code, 2);
+  EXPECT_EQ(ended.err,
+            "fx2d-bench: scene stacks: /solver/chipmunk/threads: expected an integer from 1 to 2, got 3\n");
 }
 
 // Fx2D's, Box2D's and ODE's blocks are checked once, by the engine's knobs, as any engine's: one line
@@ -298,7 +324,8 @@ TEST_F(PluginCommands, EnginesListsEachEnginesKnobs) {
   const Ending ended = bench({"engines"});
   ASSERT_EQ(ended.exit_code, 0) << ended.err;
   EXPECT_NE(
-      ended.out.find("chipmunk.iterations, chipmunk.sleeping, chipmunk.sleep_time, chipmunk.collision_slop"),
+      ended.out.find("chipmunk.iterations, chipmunk.sleeping, chipmunk.sleep_time, chipmunk.collision_slop, "
+                     "chipmunk.threads"),
       std::string::npos)
       << ended.out;
   EXPECT_NE(ended.out.find("fx2d.substeps, fx2d.velocity_passes"), std::string::npos) << ended.out;

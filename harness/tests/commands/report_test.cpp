@@ -17,6 +17,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
@@ -179,9 +180,10 @@ TEST_F(ReportOfSmallRun, EveryChartLoadsInHeadlessChromium) {
 TEST_F(ReportOfSmallRun, ChromiumShowsEverySectionAndSaysWhatIsMissing) {
   skip_without_chromium();
   const std::string& dom = rendered_dom();
-  for (const char* heading : {"Runs", "Phase split", "Speed against accuracy", "A/B comparison", "Stability",
-                              "Nightly history", "Provenance"})
+  for (const char* heading : {"Runs", "Phase split", "Speed against accuracy", "Scaling with workers",
+                              "A/B comparison", "Stability", "Nightly history", "Provenance"})
     EXPECT_NE(dom.find(std::string("<h2>") + heading + "</h2>"), std::string::npos) << heading;
+  EXPECT_NE(dom.find("No sweep over an engine's thread count among the inputs"), std::string::npos);
   EXPECT_NE(dom.find("No stability file among the inputs"), std::string::npos);
   EXPECT_NE(dom.find("No nightly history file among the inputs"), std::string::npos);
   // One summary row per engine of the run: each engine's chip appears in the runs table.
@@ -383,4 +385,51 @@ TEST_F(ReportOfStability, SaysWhichCriterionFailedFirstAndAtWhichStep) {
     EXPECT_NE(html.find(row_end), std::string::npos) << result.at("engine") << ": " << row_end;
   }
   EXPECT_GT(failures, 0) << "chain_load's quick search failed nowhere: the test checks nothing";
+}
+
+// Only the scratch directory of the refusals: a report of a sweep over Fx2D's worker count.
+using ReportOfWorkerSweep = ReportRefusals;
+
+namespace {
+
+// "%.Ng" as the report writes numbers (Python's format "g" and C's agree).
+std::string g_format(double value, int digits) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*g", digits, value);
+  return text;
+}
+
+}  // namespace
+
+// A sweep that varies only fx2d.workers gives the speedup chart, and each point's row in the phase
+// split table carries its workers, its ms/step and the speedup computed from the sweep's own medians.
+TEST_F(ReportOfWorkerSweep, DrawsSpeedupAgainstWorkersFromTheSweepsMedians) {
+  const fs::path file = scratch_ / "workers.h5";
+  const Outcome swept = shell(bench("sweep pile --bodies 36 --steps 30 --repeats 1 --engine fx2d"
+                                    " --fx2d-substeps 2 --fx2d-passes 1 --axis fx2d.workers=1,2,3 --json --out " +
+                                    file.string()),
+                              scratch_);
+  ASSERT_EQ(swept.exit_code, 0) << swept.err;
+  const Outcome reported =
+      shell(bench("report " + file.string() + " -o " + (scratch_ / "out").string()), scratch_);
+  ASSERT_EQ(reported.exit_code, 0) << reported.err;
+  const std::string html = read_text(scratch_ / "out" / "index.html");
+  const std::vector<std::string> sources = image_sources(html);
+  EXPECT_NE(std::find(sources.begin(), sources.end(), "speedup_workers.png"), sources.end());
+  EXPECT_EQ(read_text(scratch_ / "out" / "speedup_workers.png").substr(0, 8), "\x89PNG\r\n\x1a\n");
+  std::map<int, double> ms_by_workers;
+  const nlohmann::json points = nlohmann::json::parse(swept.out).at("points");
+  for (const nlohmann::json& point : points) {
+    const nlohmann::json& settings = point.at("settings");
+    if (settings.at("substeps") == 2)
+      ms_by_workers[settings.at("workers").get<int>()] = point.at("ms_per_step").at("median").get<double>();
+  }
+  ASSERT_EQ(ms_by_workers.size(), 3u);
+  EXPECT_NE(html.find("\">pile · 36 bodies · substeps 2, velocity_passes 1</td>"), std::string::npos)
+      << "one series: the swept setting (the default point, alone at its workers, is none)";
+  for (const auto& [workers, ms] : ms_by_workers) {
+    const std::string row = "<tr><td>" + std::to_string(workers) + "</td><td>" + g_format(ms, 4) +
+                            "</td><td>" + g_format(ms_by_workers.at(1) / ms, 3) + "</td><td>";
+    EXPECT_NE(html.find(row), std::string::npos) << row;
+  }
 }
