@@ -82,6 +82,7 @@ std::vector<const EngineInfo*> EngineOptions::selected() const {
   for (const std::string& name : names)  // plugins after the registry's engines, in the order given
     if (is_plugin_engine_name(name)) engines.push_back(find_engine(name));
   for (auto engine = engines.begin(); engine != engines.end(); ++engine) {
+    if (!(*engine)->unavailable.empty()) throw InputError((*engine)->unavailable);
     if (std::ranges::find(engines.begin(), engine, (*engine)->name, &EngineInfo::name) != engine)
       throw InputError("--engine: two engines are named " + (*engine)->name +
                        "; give each plugin a label of its own (plugin:PATH|LABEL)");

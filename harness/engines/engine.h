@@ -87,6 +87,9 @@ struct EngineInfo {
   std::vector<Knob> knobs;
   // The plugin file the engine was loaded from, absolute; empty for one linked into the binary.
   std::string plugin_path;
+  // Why a plugin of the registry cannot run (it failed to load: a broken install), as one line;
+  // empty when it can. Such an engine is listed, and refused when a command selects it.
+  std::string unavailable;
 };
 
 // The value of each of `knobs` in `scene`, in their order: the resolved scene's

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/child_process.h"
+#include "common/errors.h"
 #include "engines/engines.h"
 #include "engines/plugin_engine.h"
 
@@ -29,6 +30,24 @@ std::string built_plugin(const std::string& file) {
                             : (fs::path(FX2D_BENCH_ENGINE_PLUGIN_BUILD_DIR) / file).string();
 }
 
+// The entry of a plugin this build makes. One that does not load is listed with why and refused
+// only when selected (cli_options.cpp), so that a broken install leaves the other engines working.
+EngineInfo built_plugin_engine(const std::string& file, const std::string& name) {
+  const std::string path = built_plugin(file);
+  try {
+    return plugin_engine_info(Plugin::load(path), name);
+  } catch (const InputError& error) {
+    EngineInfo info;
+    info.name = name;
+    info.version = "unavailable";
+    info.settings = error.what();
+    info.plugin_path = path;
+    info.unavailable = error.what();
+    info.make = [why = info.unavailable]() -> std::unique_ptr<Engine> { throw InputError(why); };
+    return info;
+  }
+}
+
 }  // namespace
 
 std::span<const EngineInfo> engine_registry() {
@@ -37,8 +56,7 @@ std::span<const EngineInfo> engine_registry() {
     all.push_back(box2d_engine_info());
     all.push_back(ode_engine_info());
     // The plugin this build makes (engines/chipmunk/).
-    all.push_back(
-        plugin_engine_info(Plugin::load(built_plugin(FX2D_BENCH_CHIPMUNK_PLUGIN_FILE)), "chipmunk"));
+    all.push_back(built_plugin_engine(FX2D_BENCH_CHIPMUNK_PLUGIN_FILE, "chipmunk"));
     return all;
   }();
   return engines;

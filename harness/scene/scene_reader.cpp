@@ -403,6 +403,14 @@ void read_joints(ObjectReader& scene, SceneSpec& spec) {
       reader.errors().expected(reader.at("b"), "a body other than a (" + std::to_string(joint.body_a) + ")",
                                Json(joint.body_b));
     }
+    // A joint acts only through a dynamic body; between two others no engine can build it (Fx2D and
+    // ODE refused it mid-build, Chipmunk2D aborted the process).
+    const auto dynamic = [&](int body) { return spec.bodies[static_cast<std::size_t>(body)].type == BodyType::dynamic; };
+    if (!dynamic(joint.body_a) && !dynamic(joint.body_b)) {
+      reader.errors().expected(reader.at("b"), "a dynamic body, since body a (" + std::to_string(joint.body_a) +
+                                                   ") is not dynamic",
+                               Json(joint.body_b));
+    }
     joint.local_anchor_a = reader.vec2("anchor_a", {}, kSigned);
     joint.local_anchor_b = reader.vec2("anchor_b", {}, kSigned);
     if (joint.kind == JointKind::distance) {

@@ -11,6 +11,7 @@ gate and report are the input-size limits, which every whole-file read shares.)
 import functools
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -253,13 +254,35 @@ def check_stability_searches_up_to_the_engines_speed_limit():
     return [] if found == ("holds_to_limit", 1000, 1000) else [f"outcome, limit, last_pass {found}"]
 
 
+def check_a_broken_engine_plugin_leaves_the_others_working():
+    """An installed engine plugin that does not load is refused in one line when selected; the other engines run."""
+    install = scratch_directory()
+    os.makedirs(os.path.join(install, "bin"))
+    os.makedirs(os.path.join(install, "lib", "fx2d-bench"))
+    copy = os.path.join(install, "bin", "fx2d-bench")
+    shutil.copy(BENCH, copy)
+    with open(os.path.join(install, "lib", "fx2d-bench", "libfx2d_bench_chipmunk.so"), "w") as broken:
+        broken.write("not a shared library\n")
+    problems = []
+    for engines, expected_exit in (("fx2d", 0), ("chipmunk", 2), ("all", 2)):
+        ended = subprocess.run([copy, "run", "stacks", "--bodies", "10", "--engine", engines] + SHORT, cwd=install,
+                               capture_output=True, text=True, timeout=120)
+        lines = ended.stderr.strip().splitlines()
+        if ended.returncode != expected_exit:
+            problems.append(f"--engine {engines}: exit {ended.returncode}, expected {expected_exit}: {ended.stderr.strip()}")
+        elif expected_exit == 2 and not (len(lines) == 1 and "libfx2d_bench_chipmunk.so" in lines[0]):
+            problems.append(f"--engine {engines}: expected one line naming the plugin, got {ended.stderr!r}")
+    return problems
+
+
 def main():
     failures = 0
     checks = [(row.name, lambda row=row: check_misuse(row)) for row in MISUSES]
     checks += [(check.__doc__.splitlines()[0], check) for check in (
         check_unbuildable_scene_is_skipped_with_all, check_scene_from_a_generator,
         check_sweep_marks_the_default_among_other_time_steps, check_stability_records_a_plugins_settings,
-        check_stability_searches_up_to_the_engines_speed_limit)]
+        check_stability_searches_up_to_the_engines_speed_limit,
+        check_a_broken_engine_plugin_leaves_the_others_working)]
     for name, check in checks:
         problems = check()
         failures += bool(problems)

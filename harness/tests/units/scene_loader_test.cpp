@@ -737,6 +737,17 @@ TEST(Errors, JointMustJoinTwoExistingBodies) {
       R"(t.json:1:140: /joints/0/length: unknown key; expected one of "type", "a", "b", "anchor_a", "anchor_b")");
 }
 
+// Between two bodies that do not move no engine builds a joint: Fx2D and ODE refused it mid-build
+// (exit 4) and Chipmunk2D aborted the process.
+TEST(Errors, JointNeedsADynamicBody) {
+  const std::string bodies =
+      R"("bodies": [{"type": "static", "shape": {"circle": 1}}, {"type": "kinematic", "shape": {"circle": 1}}, )"
+      R"({"shape": {"circle": 1}}], )";
+  EXPECT_EQ(load_error(scene_with(bodies + R"("joints": [{"type": "revolute", "a": 0, "b": 1}])")),
+            "t.json:1:202: /joints/0/b: expected a dynamic body, since body a (0) is not dynamic, got 1");
+  EXPECT_EQ(load(scene_with(bodies + R"("joints": [{"type": "revolute", "a": 0, "b": 2}])")).joints.size(), 1u);
+}
+
 TEST(Errors, PolygonMustBeConvexAndCounterClockwise) {
   const std::string expected_what =
       "expected a convex counter-clockwise polygon of 3 to 8 [x, y] vertices, got ";
