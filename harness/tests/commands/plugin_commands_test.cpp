@@ -339,7 +339,8 @@ TEST_F(PluginCommands, EnginesListsEachEnginesKnobs) {
 TEST_F(PluginCommands, EnginesKnobsGivesEachKnobsRangeDefaultAndDescription) {
   const Ending ended = bench({"engines", "--knobs", "--engine", "chipmunk"});
   ASSERT_EQ(ended.exit_code, 0) << ended.err;
-  EXPECT_EQ(std::count(ended.out.begin(), ended.out.end(), '\n'), 4) << ended.out;
+  // iterations, sleeping, sleep_time, collision_slop, threads
+  EXPECT_EQ(std::count(ended.out.begin(), ended.out.end(), '\n'), 5) << ended.out;
   EXPECT_NE(ended.out.find("chipmunk.iterations      an integer from 1 to 1000  default 10     solver iterations per "
                            "step (cpSpaceSetIterations)\n"),
             std::string::npos)
