@@ -78,6 +78,9 @@ void BroadPhase::refresh(BodyRecord& record, const FxAABB& aabb) const {
 void update_broad_phase(const StepContext& step, BroadPhase& broad, Bodies& bodies, ContactCache& contacts,
                         const Constraints& constraints) {
   if (broad.jointed_pairs_dirty) rebuild_jointed_pairs(broad, constraints);
+  // Only a step with awake bodies (finalize, continuous) or a body created or placed marks one moved.
+  if (!broad.may_have_moved && bodies.awake_count == 0) return;
+  broad.may_have_moved = bodies.awake_count > 0;
   std::vector<BodyRecord>& records = bodies.records;
   AabbTree& tree = broad.tree;
   std::vector<std::uint32_t>& moved_bodies = broad.moved_bodies;

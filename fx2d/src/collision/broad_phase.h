@@ -20,6 +20,10 @@ struct BroadPhase {
   // Pairs (a << 32 | b, a < b) joined by a constraint, sorted: they never collide.
   std::vector<std::uint64_t> jointed_pairs;
   bool jointed_pairs_dirty = false;
+  // Whether a body may have been marked moved since the last update: by the step that just ran
+  // (its bodies were awake) or by a body created or placed. A world asleep with nothing placed skips
+  // the walk over every body.
+  bool may_have_moved = true;
   // Scratch reused every step.
   std::vector<std::uint32_t> moved_bodies;
   std::vector<std::uint64_t> new_pairs;  // (moved body << 32 | other body) of each pair found this step

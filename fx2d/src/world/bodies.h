@@ -63,7 +63,8 @@ struct Bodies {
   std::vector<BodyRecord> records;
   std::vector<BodySim> sims;
   // How many records are awake (a static body never is): at zero, a step skips every per-pair and
-  // per-body loop but the broad phase's. Kept where `awake` changes: creation, removal, sleep.cpp.
+  // per-body loop (the broad phase's too, once it has taken the last awake step's moves: its
+  // may_have_moved). Kept where `awake` changes: creation, removal, sleep.cpp.
   std::uint32_t awake_count = 0;
 
   std::uint32_t count() const { return static_cast<std::uint32_t>(records.size()); }

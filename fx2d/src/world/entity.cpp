@@ -99,6 +99,7 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
 
   record.proxy = broad_phase_.create_proxy(sim.aabb, index);
   record.moved = true;
+  broad_phase_.may_have_moved = true;
   return handle;
 }
 
@@ -174,6 +175,7 @@ void World::refresh_aabb(std::uint32_t index) {
   BodyRecord& record = bodies_.records[index];
   record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
   broad_phase_.refresh(record, sim.aabb);
+  broad_phase_.may_have_moved = true;
 }
 
 void World::add_constraint(std::shared_ptr<FxConstraint> constraint) {
