@@ -4,8 +4,8 @@
 // Invariants:
 // - the pool's threads start with the scene (or when `workers` changes) and live until it is
 //   destroyed; a step creates no thread and allocates nothing;
-// - an idle thread blocks on a condition variable after a short bounded spin, so a scene that is
-//   not stepping costs no core;
+// - an idle thread blocks on a condition variable after a bounded spin (spin_budget), so a scene
+//   that is not stepping costs no core;
 // - a range is a whole number of blocks of a size the stage fixes, the same for every worker
 //   count: results never depend on how the ranges fall on threads (fx2d/Tasks.h).
 #pragma once
@@ -23,7 +23,9 @@
 
 namespace fx2d::detail {
 
-// workers - 1 threads that, with the thread that waits, run one task at a time.
+// workers - 1 threads that, with the thread that waits, run one task at a time. Between the
+// tasks of a step the threads spin, so a colour's barrier costs tens of nanoseconds rather than a
+// futex wake-up; after spin_budget without a task they block, and a scene at rest costs no core.
 class TaskPool {
  public:
   explicit TaskPool(int workers);
@@ -44,21 +46,29 @@ class TaskPool {
   static void* enqueue(FxTaskFunction task, std::uint32_t item_count, void* task_context, void* pool);
   static void wait(void* handle, void* pool);
   void work();
-  // Claims and runs items of job `generation` until none is left or a newer job was posted.
-  void run_items(std::uint32_t generation, const Job& job);
-  void wait_until_done();
+  // Spins, then blocks, until a job newer than `seen` is posted; false once the pool stops.
+  bool await_job(std::uint32_t seen);
+  // The job of an even `sequence`, or false when a newer one is being posted (sequence lock).
+  bool read_job(std::uint32_t sequence, Job& job) const;
+  // Claims and runs items of the job posted as `sequence` until none is left.
+  void run_items(std::uint32_t sequence, const Job& job);
+  void wait_until_done() const;
 
+  // The job's fields, written only by the posting thread while `sequence_` is odd.
+  std::atomic<FxTaskFunction> task_{nullptr};
+  std::atomic<std::uint32_t> item_count_{0};
+  std::atomic<void*> context_{nullptr};
+  // Even once a job is posted, odd while one is being written: a reader that sees the same even
+  // value before and after copying the fields holds one job, never a mix of two.
+  std::atomic<std::uint32_t> sequence_{0};
+  // sequence << 32 | next unclaimed item: a thread still holding an older job can claim nothing.
+  alignas(64) std::atomic<std::uint64_t> next_claim_{0};
+  alignas(64) std::atomic<std::uint32_t> unfinished_{0};
+  alignas(64) std::atomic<int> sleepers_{0};
   std::mutex mutex_;
   std::condition_variable job_posted_;
-  // Signalled, under mutex_, when the last item of a job finishes. Not std::atomic::wait: without a
-  // futex (MinGW) libstdc++ 12 can lose that wake-up, and a step waited forever under Wine.
-  std::condition_variable job_done_;
-  Job job_;                 // guarded by mutex_
-  bool stopping_ = false;   // guarded by mutex_
-  std::atomic<std::uint32_t> generation_{0};
-  // generation << 32 | next unclaimed item: a thread still holding an older job can claim nothing.
-  std::atomic<std::uint64_t> next_claim_{0};
-  std::atomic<std::uint32_t> unfinished_{0};
+  bool stopping_ = false;  // guarded by mutex_
+  const bool oversubscribed_;  // more threads than cores: waits yield rather than spin
   std::vector<std::thread> threads_;
 };
 
