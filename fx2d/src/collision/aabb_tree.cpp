@@ -16,7 +16,6 @@
 // no result depends on the tree's shape.
 #include "collision/aabb_tree.h"
 
-#include <bit>
 
 #include <algorithm>
 #include <cassert>
@@ -43,10 +42,6 @@ void AabbTree::free_node(int id) {
 
 void AabbTree::reserve(int proxies) {
   nodes_.reserve(static_cast<std::size_t>(2 * proxies));
-  // A balanced tree of n leaves is about log2(n) deep; the stacks hold at most two entries per
-  // level, and rotations keep the height within a small factor of that.
-  const auto depth = static_cast<std::size_t>(8 + 4 * std::bit_width(static_cast<unsigned>(proxies)));
-  stack_.reserve(2 * depth);
   leaves_.reserve(static_cast<std::size_t>(proxies));
 }
 

@@ -19,8 +19,7 @@ class AabbTree {
  public:
   static constexpr int null_node = -1;
 
-  // Grows storage for this many proxies (and the query stacks for the tree they make), so that
-  // later operations up to that size do not allocate.
+  // Grows storage for this many proxies, so that later operations up to that size do not allocate.
   void reserve(int proxies);
   // Adds a leaf holding `fat_box` and returns its proxy id (a node index, stable until destroyed).
   int create_proxy(const FxAABB& fat_box, std::uint32_t user_data);
@@ -39,23 +38,20 @@ class AabbTree {
   std::uint32_t user_data(int proxy) const { return nodes_[proxy].user_data; }
 
   // Calls visit(proxy) for every leaf whose fat box overlaps `box`, in a deterministic order;
-  // visit returns false to stop early. Uses a member stack reused between calls.
+  // visit returns false to stop early. Holds its stack on the caller's stack, not in the tree, so
+  // any number of threads query one tree at once.
   template <class Visit>
   void query(const FxAABB& box, Visit&& visit) const {
     if (root_ == null_node) return;
-    stack_.clear();
-    stack_.push_back(root_);
-    while (!stack_.empty()) {
-      const int id = stack_.back();
-      stack_.pop_back();
-      const Node& node = nodes_[id];
-      if (!overlaps(node.box, box)) continue;
-      if (node.is_leaf()) {
-        if (!visit(id)) return;
-      } else {
-        stack_.push_back(node.child1);
-        stack_.push_back(node.child2);
-      }
+    // Depth first, a walk holds at most one waiting sibling per level above the node it opens,
+    // and that node's two children: height + 1 entries at most.
+    const int deepest = nodes_[root_].height + 1;
+    if (deepest <= local_stack_size) {
+      int stack[local_stack_size];
+      walk(box, stack, visit);
+    } else {
+      std::vector<int> stack(static_cast<std::size_t>(deepest));  // rotations keep real trees far shallower
+      walk(box, stack.data(), visit);
     }
   }
 
@@ -88,11 +84,28 @@ class AabbTree {
   int rotate_up(int top, int tall);
   int build_subtree(int first, int last);
 
+  static constexpr int local_stack_size = 128;
+  template <class Visit>
+  void walk(const FxAABB& box, int* stack, Visit& visit) const {
+    int size = 0;
+    stack[size++] = root_;
+    while (size > 0) {
+      const int id = stack[--size];
+      const Node& node = nodes_[id];
+      if (!overlaps(node.box, box)) continue;
+      if (node.is_leaf()) {
+        if (!visit(id)) return;
+      } else {
+        stack[size++] = node.child1;
+        stack[size++] = node.child2;
+      }
+    }
+  }
+
   std::vector<Node> nodes_;
   int root_ = null_node;
   int free_list_ = null_node;
   int proxy_count_ = 0;
-  mutable std::vector<int> stack_;
   std::vector<int> leaves_;  // rebuild()'s scratch
 };
 
