@@ -19,6 +19,10 @@ constexpr float proxy_margin = 0.1f;  // metres
 constexpr float proxy_sweep_steps = 4.0f;
 // The tree is rebuilt when more than one proxy in this many moves in a step.
 constexpr std::size_t rebuild_fraction_inverse = 2;
+// The search for new pairs spreads over the workers in blocks of this many moved bodies, once
+// this many have moved (measured: see fx2d/src/README.md).
+constexpr std::uint32_t moved_bodies_per_block = 64;
+constexpr std::uint32_t min_parallel_moved_bodies = 256;
 
 // A proxy's fat box: the tight box enlarged by a margin and swept by `displacement`.
 FxAABB fat_box_for(const FxAABB& tight, FxVec2f displacement) {
@@ -51,12 +55,61 @@ void create_contact(ContactCache& contacts, std::vector<BodyRecord>& records, st
   contact.restitution = ma.restitution > mb.restitution ? ma.restitution : mb.restitution;
 }
 
+// Appends to `found` every pair of moved body i whose fat boxes overlap and that has no contact yet.
+// A pair of moved bodies is found from both sides; only the lower index records it.
+void find_pairs_of(std::uint32_t i, const BroadPhase& broad, const std::vector<BodyRecord>& records,
+                   const ContactCache& contacts, std::vector<std::uint64_t>& found) {
+  broad.tree.query(broad.tree.fat_box(records[i].proxy), [&](int proxy) {
+    const std::uint32_t j = broad.body_of_proxy[proxy];
+    if (j == i) return true;
+    if (records[j].moved && j < i) return true;
+    if (records[i].type != FxBodyType::dynamic && records[j].type != FxBodyType::dynamic) return true;
+    const std::uint32_t a = i < j ? i : j;
+    const std::uint32_t b = i < j ? j : i;
+    if (contacts.has_pair(records[a].contact_head, b) || broad.jointed(a, b)) return true;
+    found.push_back(std::uint64_t{i} << 32 | j);
+    return true;
+  });
+}
+
+// Fills broad.new_pairs with the pairs found from the moved bodies, in their order. The search only
+// reads the tree, the records and the contacts, so blocks of moved bodies run on any thread, each
+// into a list of its own; the lists joined in block order are one thread's list.
+void find_new_pairs(const StepContext& step, BroadPhase& broad, const std::vector<BodyRecord>& records,
+                    const ContactCache& contacts) {
+  const std::vector<std::uint32_t>& moved = broad.moved_bodies;
+  const auto moved_count = static_cast<std::uint32_t>(moved.size());
+  broad.new_pairs.clear();
+  if (!step.tasks.runs_in_parallel(moved_count, min_parallel_moved_bodies)) {
+    for (const std::uint32_t i : moved) find_pairs_of(i, broad, records, contacts, broad.new_pairs);
+    return;
+  }
+  const std::uint32_t blocks = (moved_count + moved_bodies_per_block - 1) / moved_bodies_per_block;
+  if (broad.new_pairs_by_block.size() < blocks) broad.new_pairs_by_block.resize(blocks);
+  step.tasks.for_each_range(moved_count, moved_bodies_per_block, min_parallel_moved_bodies,
+                            [&](std::uint32_t first, std::uint32_t last) {
+                              for (std::uint32_t start = first; start < last; start += moved_bodies_per_block) {
+                                std::vector<std::uint64_t>& found = broad.new_pairs_by_block[start / moved_bodies_per_block];
+                                found.clear();
+                                const std::uint32_t end = std::min(start + moved_bodies_per_block, last);
+                                for (std::uint32_t k = start; k < end; ++k) find_pairs_of(moved[k], broad, records, contacts, found);
+                              }
+                            });
+  for (std::uint32_t block = 0; block < blocks; ++block) {
+    const std::vector<std::uint64_t>& found = broad.new_pairs_by_block[block];
+    broad.new_pairs.insert(broad.new_pairs.end(), found.begin(), found.end());
+  }
+}
+
 }  // namespace
 
 void BroadPhase::reserve(std::size_t bodies) {
   body_of_proxy.reserve(2 * bodies);
   moved_bodies.reserve(bodies);
   new_pairs.reserve(4 * bodies);
+  // Every block's list reserved as new_pairs is, per body: the search never allocates.
+  new_pairs_by_block.resize((bodies + moved_bodies_per_block - 1) / moved_bodies_per_block);
+  for (std::vector<std::uint64_t>& found : new_pairs_by_block) found.reserve(4 * moved_bodies_per_block);
   tree.reserve(static_cast<int>(bodies));
 }
 
@@ -102,22 +155,8 @@ void update_broad_phase(const StepContext& step, BroadPhase& broad, Bodies& bodi
   }
   if (rebuild) tree.rebuild();
 
-  // A pair of moved bodies is found from both sides; only the lower index records it.
+  find_new_pairs(step, broad, records, contacts);
   std::vector<std::uint64_t>& new_pairs = broad.new_pairs;
-  new_pairs.clear();
-  for (const std::uint32_t i : moved_bodies) {
-    tree.query(tree.fat_box(records[i].proxy), [&](int proxy) {
-      const std::uint32_t j = broad.body_of_proxy[proxy];
-      if (j == i) return true;
-      if (records[j].moved && j < i) return true;
-      if (records[i].type != FxBodyType::dynamic && records[j].type != FxBodyType::dynamic) return true;
-      const std::uint32_t a = i < j ? i : j;
-      const std::uint32_t b = i < j ? j : i;
-      if (contacts.has_pair(records[a].contact_head, b) || broad.jointed(a, b)) return true;
-      new_pairs.push_back(std::uint64_t{i} << 32 | j);
-      return true;
-    });
-  }
   // Contacts are created, and so solved, in the order of the moved body's index, then the other
   // body's, not in the order the tree happens to list them: the physics does not depend on how the
   // tree is built. (moved_bodies is ascending, so this sorts only within each body's finds.)

@@ -27,6 +27,8 @@ struct BroadPhase {
   // Scratch reused every step.
   std::vector<std::uint32_t> moved_bodies;
   std::vector<std::uint64_t> new_pairs;  // (moved body << 32 | other body) of each pair found this step
+  // The pairs found from each block of moved_bodies, on whichever thread searched that block.
+  std::vector<std::vector<std::uint64_t>> new_pairs_by_block;
 
   void reserve(std::size_t bodies);
   // Gives body `index` a proxy for its tight box `aabb`.
