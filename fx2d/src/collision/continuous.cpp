@@ -17,6 +17,10 @@ namespace {
 // safety factor).
 constexpr float fast_share = 0.5f;
 
+// A pass spreads over the workers in blocks of this many fast bodies, once it has this many.
+constexpr std::uint32_t fast_bodies_per_block = 16;
+constexpr std::uint32_t min_parallel_fast_bodies = 64;
+
 // A bound on how far any point of a body moved in the step `state` records.
 float step_motion(const FxBodyState& state, float body_reach) {
   // Up to a quarter turn the angle is at most pi/2 times its sine; beyond, a half turn bounds it.
@@ -178,9 +182,15 @@ void solve_continuous(const StepContext& step, ContinuousScratch& scratch, std::
     if (std::none_of(fast.begin(), fast.end(), in_pass)) continue;
     FastBodyPass pass(step.settings.linear_slop, others_motion(states, moving, bodies, bullets), states, bodies, broad,
                       bullets);
-    for (const std::uint32_t body : fast) {
-      if (in_pass(body)) pass.advance(body);
-    }
+    // A fast body moves only itself, and is swept only against bodies its pass never moves (not
+    // dynamic in the first pass, not bullets in the second), so a pass's bodies advance on any
+    // thread in any order.
+    step.tasks.for_each_range(static_cast<std::uint32_t>(fast.size()), fast_bodies_per_block, min_parallel_fast_bodies,
+                              [&](std::uint32_t first, std::uint32_t last) {
+                                for (std::uint32_t k = first; k < last; ++k) {
+                                  if (in_pass(fast[k])) pass.advance(fast[k]);
+                                }
+                              });
   }
 }
 
