@@ -110,11 +110,10 @@ float PairMotion::closing_along(FxVec2f normal) const {
 
 namespace {
 
-// Pairs per range of the parallel collision, and the fewest pairs worth waking the workers for.
-// Provisional (issue 22): it keeps stacks 50 and pile 300 on one thread, where two workers were
-// no faster (0.988, 0.984 of one worker's step); the crossing point wants an idle machine.
+// Pairs per range of the parallel collision, and the fewest pairs worth waking the workers for:
+// on a quiet machine two workers took 0.66 of one's collide stage from pile 300 up (fx2d/src/README.md).
 constexpr std::uint32_t pairs_per_block = 64;
-constexpr std::uint32_t min_parallel_pairs = 1024;
+constexpr std::uint32_t min_parallel_pairs = 256;
 
 // Collides one cached pair whose bodies were awake when read, writing only its own record's
 // manifold and impulses: leaves `touching`, the cache's count and the bodies to settle_pair().
