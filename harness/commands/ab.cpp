@@ -80,7 +80,7 @@ SceneRecord scene_record(const SceneSpec& scene) {
 // One line on stderr, redrawn in place when stderr is a terminal.
 RoundProgressFn round_progress(const SceneSpec& scene) {
   if (isatty(STDERR_FILENO) != 1) return {};
-  return [name = scene.name, bodies = scene.size](int round, int total) {
+  return [name = scene.name, bodies = bodies_of(scene)](int round, int total) {
     std::fprintf(stderr, "\r\x1b[Kab %s %d: round %d/%d (%s)", name.c_str(), bodies, round + 1, total,
                  variant_of_round(round) == Variant::a ? "A" : "B");
     std::fflush(stderr);
@@ -133,7 +133,7 @@ ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
     if (isatty(STDERR_FILENO) == 1) std::fputs("\r\x1b[K", stderr);
     results.partial = runs.interrupted;
     if (runs.a.repeats < sign_test_min_pairs(CompareSettings{}.rules.alpha) && !results.partial)
-      std::cerr << "fx2d-bench: " << scene.name << " " << scene.size << ": --time-budget allowed "
+      std::cerr << "fx2d-bench: " << scene.name << " " << bodies_of(scene) << ": --time-budget allowed "
                 << too_few_rounds(runs.a.repeats) << "\n";
     // The count loads the very plugin files just timed, never another build of the same revision.
     for (auto [run, build] : {std::pair{&runs.a, &build_a}, std::pair{&runs.b, &build_b}}) {

@@ -158,7 +158,7 @@ Cells cells_of(const std::vector<SceneEngines>& planned, const RunOptions& optio
   for (const auto& [scene, engines] : planned)
     for (const EngineInfo* engine : engines) {
       const RunPlan scene_plan = plan_for(options, scene);
-      cells.costs.push_back(static_cast<double>(std::max(1, scene.size)) * static_cast<double>(planned_steps(scene, scene_plan)));
+      cells.costs.push_back(static_cast<double>(std::max(1, bodies_of(scene))) * static_cast<double>(planned_steps(scene, scene_plan)));
       keys.push_back(scene.hash + " " + engine->name + " warmup=" + std::to_string(scene_plan.warmup_steps));
     }
   cells.identity = work_list_identity(keys);

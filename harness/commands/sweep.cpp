@@ -130,7 +130,7 @@ WorkList work_list_of(const std::vector<PlannedScene>& plan, int repeats) {
       for (std::size_t p = 0; p < grid.points.size(); ++p) {
         const GridPoint& point = grid.points[p];
         work.items.push_back({s, g, p, group});
-        work.costs.push_back(static_cast<double>(std::max(1, scene.base.size)) * steps_at(scene.base, point.dt));
+        work.costs.push_back(static_cast<double>(std::max(1, bodies_of(scene.base))) * steps_at(scene.base, point.dt));
         keys.push_back(scene.base.hash + " " + grid.engine->name + " " + knobs_text(point.knobs) +
                        formatted(" dt=%.17g", point.dt));
       }

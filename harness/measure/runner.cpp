@@ -38,7 +38,7 @@ RunRecord empty_record(const SceneSpec& scene, const EngineInfo& info, const Eng
   record.engine_settings = settings_of(scene, info);
   record.scene = scene.name;
   record.scene_hash = scene.hash;
-  record.bodies = scene.size;
+  record.bodies = bodies_of(scene);
   record.body_count = static_cast<int>(scene.bodies.size());
   record.steps = scene.steps;
   record.repeats = plan.repeats;

@@ -77,4 +77,13 @@ struct SceneSpec {
   std::vector<JointSpec> joints;
 };
 
+// The scene's size as results name it: its size parameter N, or for a scene that has none (a file
+// listing its bodies) the number of dynamic bodies it holds.
+inline int bodies_of(const SceneSpec& scene) {
+  if (scene.size > 0) return scene.size;
+  int dynamic = 0;
+  for (const BodySpec& body : scene.bodies) dynamic += body.type == BodyType::dynamic ? 1 : 0;
+  return dynamic;
+}
+
 }  // namespace fxbench

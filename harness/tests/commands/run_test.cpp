@@ -296,6 +296,14 @@ TEST_F(BinaryTest, TableHasAHeaderAndOneRowPerEngine) {
   EXPECT_LT(outcome.out.find("\nfx2d "), outcome.out.find("\nbox2d ")) << outcome.out;
 }
 
+// A scene file that lists its bodies has no size parameter: its results count its dynamic bodies
+// (the box, not the ground it rests on), never 0.
+TEST_F(BinaryTest, SceneWithoutASizeCountsItsDynamicBodies) {
+  const Outcome outcome = bench("run " + test_scene("single_box_on_ground") + " --engine fx2d --steps 5 --repeats 1 --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.err;
+  EXPECT_EQ(Json::parse(outcome.out)["runs"][0]["bodies"], 1) << outcome.out;
+}
+
 TEST_F(BinaryTest, MissingSceneFileIsAnInputError) {
   expect_one_line_input_error(bench("run " + (directory_ / "nosuch.json").string()), "nosuch.json");
 }
