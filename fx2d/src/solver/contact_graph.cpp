@@ -1,5 +1,6 @@
 // Greedy colouring of the step's contact constraints (contact_graph.h): per colour a bitset over
-// the bodies it already holds; the constraints are then listed colour by colour, overflow last.
+// the bodies it already holds; the constraints are then listed colour by colour and point count
+// by point count, overflow last.
 #include "solver/contact_graph.h"
 
 #include <algorithm>
@@ -11,44 +12,49 @@ namespace fx2d::detail {
 
 void ContactGraph::reserve(std::size_t constraints, std::size_t bodies) {
   used_.reserve(((bodies + 63) / 64) * max_colours);
-  colour_of_.reserve(constraints);
+  group_of_.reserve(constraints);
   order_.reserve(constraints);
 }
 
-void ContactGraph::build(std::span<const ContactConstraint> constraints, std::span<const FxBodyState> states) {
+void ContactGraph::build(std::span<const ConstraintSource> constraints, std::span<const FxBodyState> states) {
   const std::size_t words = (states.size() + 63) / 64;
-  const auto movable = [&](std::uint32_t body) { return (states[body].flags & movable_flag) != 0; };
   used_.assign(words * max_colours, 0);
-  colour_of_.resize(constraints.size());
-  int counts[max_colours + 1] = {};
+  group_of_.resize(constraints.size());
+  int counts[groups] = {};
   colour_count_ = 0;
 
-  auto taken = [&](int colour, std::uint32_t body) {
-    return movable(body) && (used_[colour * words + body / 64] >> (body % 64) & 1u);
+  // A body that is not movable takes no place in a colour: its bit is never set nor tested.
+  const auto bit_of = [&](std::uint32_t body) {
+    return (states[body].flags & movable_flag) != 0 ? std::uint64_t{1} << (body % 64) : std::uint64_t{0};
   };
-  auto take = [&](int colour, std::uint32_t body) {
-    if (movable(body)) used_[colour * words + body / 64] |= std::uint64_t{1} << (body % 64);
-  };
+  // Invariant: used_[colour * words + w] holds the movable bodies colour already has, so a
+  // constraint takes the first colour where neither of its bodies' bits is set.
   for (std::size_t i = 0; i < constraints.size(); ++i) {
     const std::uint32_t a = constraints[i].body_a;
     const std::uint32_t b = constraints[i].body_b;
+    const std::uint64_t bit_a = bit_of(a), bit_b = bit_of(b);
+    std::size_t word_a = a / 64, word_b = b / 64;
     int colour = 0;
-    while (colour < max_colours && (taken(colour, a) || taken(colour, b))) ++colour;
+    while (colour < max_colours && ((used_[word_a] & bit_a) | (used_[word_b] & bit_b)) != 0) {
+      ++colour;
+      word_a += words;
+      word_b += words;
+    }
     if (colour < max_colours) {
-      take(colour, a);
-      take(colour, b);
+      used_[word_a] |= bit_a;
+      used_[word_b] |= bit_b;
       colour_count_ = std::max(colour_count_, colour + 1);
     }
-    colour_of_[i] = static_cast<std::uint8_t>(colour);
-    ++counts[colour];
+    group_of_[i] = static_cast<std::uint8_t>(group(colour, constraints[i].point_count));
+    ++counts[group_of_[i]];
   }
 
   offsets_[0] = 0;
-  for (int c = 0; c < max_colours + 1; ++c) offsets_[c + 1] = offsets_[c] + counts[c];
+  for (int g = 0; g < groups; ++g) offsets_[g + 1] = offsets_[g] + counts[g];
   order_.resize(constraints.size());
-  int cursor[max_colours + 1];
-  std::copy(offsets_, offsets_ + max_colours + 1, cursor);
-  for (std::size_t i = 0; i < constraints.size(); ++i) order_[cursor[colour_of_[i]]++] = static_cast<int>(i);
+  int cursor[groups];
+  std::copy(offsets_, offsets_ + groups, cursor);
+  for (std::size_t i = 0; i < constraints.size(); ++i) order_[cursor[group_of_[i]]++] = static_cast<int>(i);
 }
 
 }  // namespace fx2d::detail
