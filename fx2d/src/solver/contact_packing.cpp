@@ -1,7 +1,8 @@
 // Building the step's contact constraints into the batches' columns (contact_batch.h): pack()
 // lays each colour's constraints, then the overflow's, into eight-lane batches by point count,
-// then works each constraint out from its contact straight into its lane, with the per-lane
-// couplings between a batch's rows. The passes over the batches are contact_batch.cpp.
+// then writes what each contact brings into its lane, one lane at a time, and works out the rows
+// that follow from it (lever arms, effective masses, the couplings between a batch's rows) for all
+// eight lanes at once. The passes over the batches are contact_batch.cpp.
 #include <algorithm>
 #include <cmath>
 
@@ -20,69 +21,28 @@ constexpr float sticking_speed = 0.01f;
 constexpr std::uint32_t batches_per_block = constraints_per_block / lane_count;
 constexpr std::uint32_t min_parallel_batch_builds = min_parallel_constraints / lane_count;
 
-// Row s's lever arms times row r's spins, arm_a(s) spin_a(r) + arm_b(s) spin_b(r), in one lane.
-float arms_times_spins(const float* arm_a, const float* arm_b, const float* spin_a, const float* spin_b,
-                       int lane) {
-  return arm_a[lane] * spin_a[lane] + arm_b[lane] * spin_b[lane];
-}
-
-// How much row s's relative speed changes per unit impulse on row r: J_s M^-1 J_r^T, that is
-// (m_a + m_b) (d_s . d_r) + arm_a(s) spin_a(r) + arm_b(s) spin_b(r). Normal and tangent are
-// perpendicular, so the mass term appears only between rows of one direction.
-void add_couplings(ContactBatch& k, int lane, int points, float mass_sum) {
-  PointColumns* p = k.point;
-  for (int s = 0; s < points; ++s) {
-    for (int r = 0; r < points; ++r) {
-      p[s].tangent_from_normal[r][lane] = arms_times_spins(p[s].arm_tangent_a, p[s].arm_tangent_b,
-                                                           p[r].spin_normal_a, p[r].spin_normal_b, lane);
-    }
-  }
-  if (points == 2) {
-    k.normal1_from_normal0[lane] = mass_sum + arms_times_spins(p[1].arm_normal_a, p[1].arm_normal_b,
-                                                               p[0].spin_normal_a, p[0].spin_normal_b, lane);
-    k.tangent1_from_tangent0[lane] =
-        mass_sum + arms_times_spins(p[1].arm_tangent_a, p[1].arm_tangent_b, p[0].spin_tangent_a,
-                                    p[0].spin_tangent_b, lane);
-  }
-}
-
 // The mass a row's impulse acts on, from its effective inverse mass: zero when nothing can move.
-float mass_of(float inverse_mass) { return inverse_mass > 0.0f ? 1.0f / inverse_mass : 0.0f; }
-
-// One row of a point along `direction`: the anchors' lever arms about it and the spins a unit
-// impulse there gives each body.
-struct Row {
-  float arm_a, arm_b, spin_a, spin_b;
-};
-
-Row row_of(FxVec2f anchor_a, FxVec2f anchor_b, FxVec2f direction, float inv_inertia_a, float inv_inertia_b) {
-  const float arm_a = cross(anchor_a, direction);
-  const float arm_b = cross(anchor_b, direction);
-  return {arm_a, arm_b, inv_inertia_a * arm_a, inv_inertia_b * arm_b};
+[[gnu::always_inline]] inline float mass_of(float inverse_mass) {
+  return inverse_mass > 0.0f ? 1.0f / inverse_mass : 0.0f;
 }
 
-// The constraint of one active contact, worked out into lane `lane` of `k`: reads the contact and
-// its bodies, writes that lane alone.
+// What one contact brings to its lane, read from the contact and its bodies: bodies, normal,
+// inverse masses, anchors, separations, impulses, and what restitution and friction need from the
+// velocities before the step. Writes that lane alone.
 void build_lane(ContactBatch& k, int lane, const ConstraintSource& source, const CachedContact& contact,
                 const Bodies& bodies) {
   const BodySim& sim_a = bodies.sims[source.body_a];
   const BodySim& sim_b = bodies.sims[source.body_b];
   const FxVec2f normal = contact.manifold.normal;
   const FxVec2f tangent = right_perp(normal);
-  const float inv_inertia_a = sim_a.inv_inertia, inv_inertia_b = sim_b.inv_inertia;
-  const float mass_sum = sim_a.inv_mass + sim_b.inv_mass;
   k.body_a[lane] = source.body_a;
   k.body_b[lane] = source.body_b;
   k.normal_x[lane] = normal.x;
   k.normal_y[lane] = normal.y;
-  k.mass_normal_ax[lane] = sim_a.inv_mass * normal.x;
-  k.mass_normal_ay[lane] = sim_a.inv_mass * normal.y;
-  k.mass_normal_bx[lane] = sim_b.inv_mass * normal.x;
-  k.mass_normal_by[lane] = sim_b.inv_mass * normal.y;
   k.inv_mass_a[lane] = sim_a.inv_mass;
   k.inv_mass_b[lane] = sim_b.inv_mass;
-  k.inv_inertia_a[lane] = inv_inertia_a;
-  k.inv_inertia_b[lane] = inv_inertia_b;
+  k.inv_inertia_a[lane] = sim_a.inv_inertia;
+  k.inv_inertia_b[lane] = sim_b.inv_inertia;
   k.restitution[lane] = contact.restitution;
 
   // The manifold is in a frame centred on body a's origin; move it to the centres of mass.
@@ -99,21 +59,6 @@ void build_lane(ContactBatch& k, int lane, const ConstraintSource& source, const
     column.anchor_bx[lane] = anchor_b.x;
     column.anchor_by[lane] = anchor_b.y;
     column.adjusted_separation[lane] = mp.separation - dot(anchor_b - anchor_a, normal);
-    const Row along_normal = row_of(anchor_a, anchor_b, normal, inv_inertia_a, inv_inertia_b);
-    const Row along_tangent = row_of(anchor_a, anchor_b, tangent, inv_inertia_a, inv_inertia_b);
-    column.arm_normal_a[lane] = along_normal.arm_a;
-    column.arm_normal_b[lane] = along_normal.arm_b;
-    column.arm_tangent_a[lane] = along_tangent.arm_a;
-    column.arm_tangent_b[lane] = along_tangent.arm_b;
-    column.spin_normal_a[lane] = along_normal.spin_a;
-    column.spin_normal_b[lane] = along_normal.spin_b;
-    column.spin_tangent_a[lane] = along_tangent.spin_a;
-    column.spin_tangent_b[lane] = along_tangent.spin_b;
-    // 1 / (J M^-1 J^T): m_a + m_b, plus each lever arm times the spin it gives.
-    column.normal_mass[lane] =
-        mass_of(mass_sum + along_normal.spin_a * along_normal.arm_a + along_normal.spin_b * along_normal.arm_b);
-    column.tangent_mass[lane] =
-        mass_of(mass_sum + along_tangent.spin_a * along_tangent.arm_a + along_tangent.spin_b * along_tangent.arm_b);
     column.normal_impulse[lane] = contact.normal_impulse[i];
     column.tangent_impulse[lane] = contact.tangent_impulse[i];
     column.max_normal_impulse[lane] = 0.0f;
@@ -123,7 +68,69 @@ void build_lane(ContactBatch& k, int lane, const ConstraintSource& source, const
     sliding_speed = std::max(sliding_speed, std::fabs(dot(dv, tangent)));
   }
   k.friction[lane] = sliding_speed > sticking_speed ? contact.dynamic_friction : contact.static_friction;
-  add_couplings(k, lane, source.point_count, mass_sum);
+}
+
+// The rows of every lane of a batch, from the normals, anchors and inverse masses build_lane()
+// wrote: each body's inverse mass times the normal; per point the lever arms about the normal and
+// the tangent right_perp(normal) = (ny, -nx), the spins a unit impulse there gives, the effective
+// masses 1 / (J M^-1 J^T); and the couplings between rows, J_s M^-1 J_r^T, that is
+// (m_a + m_b) (d_s . d_r) + arm_a(s) spin_a(r) + arm_b(s) spin_b(r): normal and tangent are
+// perpendicular, so the mass term appears only between rows of one direction.
+template <int Points>
+[[gnu::always_inline]] inline void derive_rows(ContactBatch& __restrict k) {
+  // check-vectorized(2): the lane loop below, for one and two points, must be vectorised. Lanes
+  // are independent and padding lanes, all zero, come out zero.
+  for (int lane = 0; lane < lane_count; ++lane) {
+    const float nx = k.normal_x[lane], ny = k.normal_y[lane];
+    const float inv_mass_a = k.inv_mass_a[lane], inv_mass_b = k.inv_mass_b[lane];
+    const float inv_inertia_a = k.inv_inertia_a[lane], inv_inertia_b = k.inv_inertia_b[lane];
+    k.mass_normal_ax[lane] = inv_mass_a * nx;
+    k.mass_normal_ay[lane] = inv_mass_a * ny;
+    k.mass_normal_bx[lane] = inv_mass_b * nx;
+    k.mass_normal_by[lane] = inv_mass_b * ny;
+    const float mass_sum = inv_mass_a + inv_mass_b;
+    float arm_na[Points], arm_nb[Points], arm_ta[Points], arm_tb[Points];
+    float spin_na[Points], spin_nb[Points], spin_ta[Points], spin_tb[Points];
+    for (int i = 0; i < Points; ++i) {
+      PointColumns& p = k.point[i];
+      const float ax = p.anchor_ax[lane], ay = p.anchor_ay[lane], bx = p.anchor_bx[lane], by = p.anchor_by[lane];
+      arm_na[i] = ax * ny - ay * nx;
+      arm_nb[i] = bx * ny - by * nx;
+      arm_ta[i] = ax * -nx - ay * ny;
+      arm_tb[i] = bx * -nx - by * ny;
+      spin_na[i] = inv_inertia_a * arm_na[i];
+      spin_nb[i] = inv_inertia_b * arm_nb[i];
+      spin_ta[i] = inv_inertia_a * arm_ta[i];
+      spin_tb[i] = inv_inertia_b * arm_tb[i];
+      p.arm_normal_a[lane] = arm_na[i];
+      p.arm_normal_b[lane] = arm_nb[i];
+      p.arm_tangent_a[lane] = arm_ta[i];
+      p.arm_tangent_b[lane] = arm_tb[i];
+      p.spin_normal_a[lane] = spin_na[i];
+      p.spin_normal_b[lane] = spin_nb[i];
+      p.spin_tangent_a[lane] = spin_ta[i];
+      p.spin_tangent_b[lane] = spin_tb[i];
+      p.normal_mass[lane] = mass_of(mass_sum + spin_na[i] * arm_na[i] + spin_nb[i] * arm_nb[i]);
+      p.tangent_mass[lane] = mass_of(mass_sum + spin_ta[i] * arm_ta[i] + spin_tb[i] * arm_tb[i]);
+    }
+    for (int s = 0; s < Points; ++s) {
+      for (int r = 0; r < Points; ++r) {
+        k.point[s].tangent_from_normal[r][lane] = arm_ta[s] * spin_na[r] + arm_tb[s] * spin_nb[r];
+      }
+    }
+    if constexpr (Points == 2) {
+      k.normal1_from_normal0[lane] = mass_sum + (arm_na[1] * spin_na[0] + arm_nb[1] * spin_nb[0]);
+      k.tangent1_from_tangent0[lane] = mass_sum + (arm_ta[1] * spin_ta[0] + arm_tb[1] * spin_tb[0]);
+    }
+  }
+}
+
+FX2D_LANE_KERNEL void derive_batch_rows(ContactBatch& k, int points) {
+  if (points == 1) {
+    derive_rows<1>(k);
+  } else {
+    derive_rows<2>(k);
+  }
 }
 
 }  // namespace
@@ -156,6 +163,7 @@ void ContactBatches::build_batch(int index, std::span<const ConstraintSource> co
     build_lane(k, lane, source, contacts.slots[source.cache_id], bodies);
     lanes_[constraint] = index * lane_count + lane;
   }
+  derive_batch_rows(k, constraints[members.first[0]].point_count);
 }
 
 void ContactBatches::reserve(std::size_t constraints) {
