@@ -112,7 +112,7 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   const std::vector<BodySim>& sims = bodies.sims;
   BodyIntegration& integration = solver.integration;
   std::vector<FxBodyState>& states = solver.states;
-  integration.clear(step.body_count);
+  integration.clear(step.body_count, records.size());
   // A world asleep gathers no state and builds no constraint (a touching constraint always has an
   // awake body): the stages after this one read only the empty lists of moving bodies and
   // constraints.
