@@ -38,7 +38,8 @@ class ContactGraph {
   std::span<const int> members(int c, int points) const { return listed(group(c, points), group(c, points) + 1); }
 
  private:
-  std::vector<std::uint64_t> used_;   // per colour, a bitset over bodies
+  static_assert(max_colours < 32, "a body's colours are a 32-bit set");
+  std::vector<std::uint32_t> colours_of_;  // per body, the colours that hold it
   std::vector<std::uint8_t> group_of_;  // per constraint, its colour's group for its point count
   static constexpr int groups = 2 * (max_colours + 1);  // per colour and the overflow, per point count
   static int group(int colour, int points) { return 2 * colour + points - 1; }
