@@ -13,8 +13,8 @@
 namespace fx2d::detail {
 namespace {
 
-std::vector<ContactConstraint> pairs_to_constraints(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
-  std::vector<ContactConstraint> constraints(pairs.size());
+std::vector<ConstraintSource> pairs_to_constraints(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
+  std::vector<ConstraintSource> constraints(pairs.size());
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     constraints[i].body_a = pairs[i].first;
     constraints[i].body_b = pairs[i].second;
@@ -30,7 +30,7 @@ std::vector<FxBodyState> flagged_states(const std::vector<std::uint8_t>& movable
 }
 
 // Checks the invariant and returns how many constraints the groups hold in all.
-std::size_t check_colouring(const ContactGraph& graph, const std::vector<ContactConstraint>& constraints,
+std::size_t check_colouring(const ContactGraph& graph, const std::vector<ConstraintSource>& constraints,
                             const std::vector<std::uint8_t>& movable) {
   std::vector<int> seen(constraints.size(), 0);
   std::size_t total = 0;

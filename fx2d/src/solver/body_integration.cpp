@@ -113,35 +113,30 @@ void BodyIntegration::reserve(std::size_t bodies) {
   }
 }
 
-void BodyIntegration::clear(std::uint32_t padding_body) {
+void BodyIntegration::clear(std::uint32_t padding_body, std::size_t body_count) {
   padding_body_ = padding_body;
   moving_count_ = 0;
-  moving_.clear();
-  dynamic_.clear();
+  moving_size_ = 0;
+  dynamic_size_ = 0;
+  // Only grows (within reserve()'s room for the scene's bodies), so a step re-initialises nothing.
+  const std::size_t padded = body_count + lane_count;
+  if (moving_.size() >= padded) return;
+  moving_.resize(padded);
+  dynamic_.resize(padded);
   for (std::vector<float>* column : {&acceleration_x_, &acceleration_y_, &linear_factor_, &angular_factor_}) {
-    column->clear();
+    column->resize(padded);
   }
 }
 
-void BodyIntegration::add_moving(std::uint32_t body) { moving_.push_back(body); }
-
-void BodyIntegration::add_dynamic(std::uint32_t body, FxVec2f acceleration, float linear_factor, float angular_factor) {
-  dynamic_.push_back(body);
-  acceleration_x_.push_back(acceleration.x);
-  acceleration_y_.push_back(acceleration.y);
-  linear_factor_.push_back(linear_factor);
-  angular_factor_.push_back(angular_factor);
-}
-
 void BodyIntegration::finish() {
-  moving_count_ = moving_.size();
-  while (moving_.size() % lane_count != 0) moving_.push_back(padding_body_);
-  while (dynamic_.size() % lane_count != 0) add_dynamic(padding_body_, {}, 1.0f, 1.0f);
+  moving_count_ = moving_size_;
+  while (moving_size_ % lane_count != 0) add_moving(padding_body_);
+  while (dynamic_size_ % lane_count != 0) add_dynamic(padding_body_, {}, 1.0f, 1.0f);
 }
 
 void BodyIntegration::integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits,
                                            const Tasks& tasks) const {
-  tasks.for_each_range(static_cast<std::uint32_t>(dynamic_.size()), bodies_per_block, min_parallel_bodies,
+  tasks.for_each_range(static_cast<std::uint32_t>(dynamic_size_), bodies_per_block, min_parallel_bodies,
                        [&](std::uint32_t first, std::uint32_t last) {
                          const DynamicColumns columns{dynamic_.data() + first, acceleration_x_.data() + first,
                                                       acceleration_y_.data() + first, linear_factor_.data() + first,
@@ -152,7 +147,7 @@ void BodyIntegration::integrate_velocities(std::span<FxBodyState> states, float 
 
 void BodyIntegration::integrate_positions(std::span<FxBodyState> states, float h, SpeedLimits limits,
                                           const Tasks& tasks) const {
-  tasks.for_each_range(static_cast<std::uint32_t>(moving_.size()), bodies_per_block, min_parallel_bodies,
+  tasks.for_each_range(static_cast<std::uint32_t>(moving_size_), bodies_per_block, min_parallel_bodies,
                        [&](std::uint32_t first, std::uint32_t last) {
                          integrate_position_groups(moving_.data() + first, last - first, states.data(), h, limits);
                        });

@@ -33,12 +33,20 @@ class BodyIntegration {
  public:
   // Grows storage for this many bodies, so a step does not allocate up to there.
   void reserve(std::size_t bodies);
-  // Starts the step's lists; `padding_body` indexes a zero state that nothing reads back.
-  void clear(std::uint32_t padding_body);
+  // Starts the step's lists for up to `body_count` bodies; `padding_body` indexes a zero state
+  // that nothing reads back.
+  void clear(std::uint32_t padding_body, std::size_t body_count);
   // An awake body that moves: kinematic or dynamic.
-  void add_moving(std::uint32_t body);
+  void add_moving(std::uint32_t body) { moving_[moving_size_++] = body; }
   // An awake dynamic body (also added with add_moving), with what its velocity integration reads.
-  void add_dynamic(std::uint32_t body, FxVec2f acceleration, float linear_factor, float angular_factor);
+  void add_dynamic(std::uint32_t body, FxVec2f acceleration, float linear_factor, float angular_factor) {
+    dynamic_[dynamic_size_] = body;
+    acceleration_x_[dynamic_size_] = acceleration.x;
+    acceleration_y_[dynamic_size_] = acceleration.y;
+    linear_factor_[dynamic_size_] = linear_factor;
+    angular_factor_[dynamic_size_] = angular_factor;
+    ++dynamic_size_;
+  }
   // Pads both lists to whole groups; call once, after the last add.
   void finish();
   // The awake moving bodies added this step, in order, without the padding.
@@ -51,7 +59,11 @@ class BodyIntegration {
 
  private:
   std::uint32_t padding_body_ = 0;
+  // The lists are sized by clear() for every body and the padding, and filled by index: the first
+  // moving_size_ and dynamic_size_ entries are this step's, padding included.
   std::size_t moving_count_ = 0;  // moving_ before its padding
+  std::size_t moving_size_ = 0;
+  std::size_t dynamic_size_ = 0;
   std::vector<std::uint32_t> moving_;
   std::vector<std::uint32_t> dynamic_;
   // Per entry of dynamic_:

@@ -499,7 +499,7 @@ void ContactBatches::update_separations(std::span<const FxBodyState> states, flo
 }
 
 void ContactBatches::update_separations_apart(std::span<const FxBodyState> states, float slop, const Tasks& tasks) {
-  const auto count = static_cast<std::uint32_t>(batches_.size());
+  const auto count = static_cast<std::uint32_t>(batch_count_);
   // Each range writes only its own batches and marks; whether any is deep is read off the marks
   // afterwards, not gathered from the threads.
   tasks.for_each_range(count, per_worker(count, tasks), min_parallel_batches, [&](std::uint32_t begin, std::uint32_t end) {

@@ -13,6 +13,9 @@
 //   once per step by pack(), so a pass only multiplies it by the bodies' velocities: the rows of
 //   a two-point contact depend on each other, and every operation taken out of them shortens
 //   the chain that bounds a pass;
+// - the batches are the only home of the step's constraints: pack() works each one out from its
+//   contact straight into its lane, and what runs contact by contact after the substeps
+//   (contact_solver.cpp) reads it there;
 // - the arithmetic of one lane is one function (contact_batch.cpp) used by both the batched and
 //   the scalar path, and lanes are independent, so the two agree to the bit and the result does
 //   not depend on the lane count;
@@ -33,6 +36,9 @@
 #include "world/tasks.h"
 
 namespace fx2d::detail {
+
+struct Bodies;
+class ContactCache;
 
 // The part of a body's solver state a velocity pass reads and writes, copied into locals.
 struct LaneBody {
@@ -95,7 +101,13 @@ struct alignas(32) ContactBatch {
   // Per manifold point, each point's columns together: a one-point batch never touches the
   // second point's, so its passes read half the cache lines.
   PointColumns point[2];
-  int constraint[lane_count];  // index into the step's constraints, -1 for padding
+  // Read only after the substeps, contact by contact (contact_solver.cpp).
+  float inv_mass_a[lane_count];
+  float inv_mass_b[lane_count];
+  float inv_inertia_a[lane_count];
+  float inv_inertia_b[lane_count];
+  float restitution[lane_count];
+  float relative_velocity[2][lane_count];  // per point, the normal velocity before the step
 };
 
 // Consecutive batches of one colour (or of the overflow) with one point count.
@@ -114,11 +126,13 @@ class ContactBatches {
  public:
   // Grows storage for this many constraints, so pack() does not allocate up to there.
   void reserve(std::size_t constraints);
-  // Packs the constraints colour by colour. `padding_body` indexes a state that is never read
-  // back (one past the last body). Decides, for the step, whether the passes spread over `tasks`
-  // (never with `scalar`, the lane-by-lane twin).
-  void pack(std::span<const ContactConstraint> constraints, const ContactGraph& graph, std::uint32_t padding_body,
-            const Tasks& tasks, bool scalar);
+  // Packs the constraints colour by colour, each worked out from its contact in `contacts` and
+  // its bodies straight into its lane; the batches are built in ranges over `tasks` when there
+  // are enough. `padding_body` indexes a state that is never read back (one past the last body).
+  // Decides, for the step, whether the passes spread over `tasks` (never with `scalar`, the
+  // lane-by-lane twin).
+  void pack(std::span<const ConstraintSource> constraints, const ContactGraph& graph, const ContactCache& contacts,
+            const Bodies& bodies, std::uint32_t padding_body, const Tasks& tasks, bool scalar);
   // With `scalar`, every batch is solved lane by lane (the scalar twin), on the stepping thread;
   // the result is the same. `tasks` spreads each colour's batches over the workers.
   void warm_start(std::span<FxBodyState> states, bool scalar, const Tasks& tasks);
@@ -136,12 +150,22 @@ class ContactBatches {
   void take_back_push(std::span<FxBodyState> states, bool scalar, const Tasks& tasks);
   void resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias, bool scalar,
                           const Tasks& tasks);
-  // Copies the accumulated impulses back to the constraints they came from.
-  void unpack(std::span<ContactConstraint> constraints) const;
+  // The batch and the lane that hold constraint `constraint` (an index into pack()'s constraints).
+  ContactBatch& batch_holding(int constraint) { return batches_[lanes_[constraint] / lane_count]; }
+  const ContactBatch& batch_holding(int constraint) const { return batches_[lanes_[constraint] / lane_count]; }
+  int lane_holding(int constraint) const { return lanes_[constraint] % lane_count; }
 
  private:
-  void add_runs(std::span<const ContactConstraint> constraints, std::span<const int> members, bool serial,
-                std::uint32_t padding_body);
+  // The constraints packed into batch i: `count` of the graph's members from `first` on.
+  struct BatchMembers {
+    const int* first = nullptr;
+    int count = 0;
+  };
+
+  // Lays out the runs of one colour (or of the overflow): which batch each member goes to.
+  void add_runs(const ContactGraph& graph, int colour, bool serial);
+  void build_batch(int index, std::span<const ConstraintSource> constraints, const ContactCache& contacts,
+                   const Bodies& bodies, std::uint32_t padding_body);
   // Calls sweep(runs, shared) over every run: at once on this thread (shared false), or, when
   // pack() chose to spread, colour by colour over the workers on ranges of runs cut
   // to whole batches (shared true: only movable bodies may be written back), then the overflow on
@@ -154,7 +178,12 @@ class ContactBatches {
   [[gnu::noinline]] void sweep_colours_apart(const Tasks& tasks, const Sweep& sweep);
   [[gnu::noinline]] void update_separations_apart(std::span<const FxBodyState> states, float slop, const Tasks& tasks);
 
+  // The first batch_count_ are this step's; the storage only grows, so that a batch is not
+  // cleared before pack() writes every lane of it.
   std::vector<ContactBatch> batches_;
+  int batch_count_ = 0;
+  std::vector<BatchMembers> members_;  // per batch
+  std::vector<int> lanes_;             // per constraint, batch * lane_count + lane
   std::vector<BatchRun> runs_;
   // Colour c's runs are runs_[first_run_[c], first_run_[c + 1]); the overflow's follow them.
   int first_run_[ContactGraph::max_colours + 1] = {};

@@ -5,6 +5,8 @@
 // (their state is never changed by a contact, so any number of lanes may read them); what fits
 // no colour goes to the overflow group, solved serially. Colouring is greedy in the constraints'
 // order, which is the contact cache's slot order, so the same step always gets the same colours.
+// Within a colour (and the overflow), one-point contacts are listed before two-point ones, each in
+// constraint order: the batches' runs (contact_batch.h).
 #pragma once
 
 #include <cstdint>
@@ -15,7 +17,7 @@
 
 namespace fx2d::detail {
 
-struct ContactConstraint;
+struct ConstraintSource;
 
 class ContactGraph {
  public:
@@ -24,22 +26,29 @@ class ContactGraph {
 
   // A body is movable when its state carries movable_flag (prepare_solver sets it on the awake
   // dynamic bodies); the solver never changes any other body's state.
-  void build(std::span<const ContactConstraint> constraints, std::span<const FxBodyState> states);
+  void build(std::span<const ConstraintSource> constraints, std::span<const FxBodyState> states);
 
   // Grows storage for this many constraints and bodies, so build() does not allocate up to there.
   void reserve(std::size_t constraints, std::size_t bodies);
 
   int colour_count() const { return colour_count_; }
   // Constraint indices of colour c (0 <= c < colour_count()), or of the overflow group (c == overflow).
-  std::span<const int> members(int c) const {
-    return {order_.data() + offsets_[c], static_cast<std::size_t>(offsets_[c + 1] - offsets_[c])};
-  }
+  std::span<const int> members(int c) const { return listed(group(c, 1), group(c, 2) + 1); }
+  // Those of them with `points` manifold points (1 or 2).
+  std::span<const int> members(int c, int points) const { return listed(group(c, points), group(c, points) + 1); }
 
  private:
-  std::vector<std::uint64_t> used_;   // per colour, a bitset over bodies
-  std::vector<std::uint8_t> colour_of_;
-  std::vector<int> order_;            // constraint indices grouped by colour, overflow last
-  int offsets_[max_colours + 2] = {};
+  static_assert(max_colours < 32, "a body's colours are a 32-bit set");
+  std::vector<std::uint32_t> colours_of_;  // per body, the colours that hold it
+  std::vector<std::uint8_t> group_of_;  // per constraint, its colour's group for its point count
+  static constexpr int groups = 2 * (max_colours + 1);  // per colour and the overflow, per point count
+  static int group(int colour, int points) { return 2 * colour + points - 1; }
+  std::span<const int> listed(int first_group, int end_group) const {
+    return {order_.data() + offsets_[first_group], static_cast<std::size_t>(offsets_[end_group] - offsets_[first_group])};
+  }
+
+  std::vector<int> order_;            // constraint indices grouped by colour and point count, overflow last
+  int offsets_[groups + 1] = {};
   int colour_count_ = 0;
 };
 

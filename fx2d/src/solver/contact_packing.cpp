@@ -1,143 +1,211 @@
-// Moving contact constraints in and out of the batches' columns (contact_batch.h): pack() lays
-// each colour's constraints, then the overflow's, into eight-lane batches by point count, with
-// the per-lane couplings between a batch's rows worked out once; unpack() copies the impulses
-// back for the next step's warm start. The passes over the batches are contact_batch.cpp.
-#include "solver/contact_batch.h"
-
+// Building the step's contact constraints into the batches' columns (contact_batch.h): pack()
+// lays each colour's constraints, then the overflow's, into eight-lane batches by point count,
+// then writes what each contact brings into its lane, one lane at a time, and works out the rows
+// that follow from it (lever arms, effective masses, the couplings between a batch's rows) for all
+// eight lanes at once. The passes over the batches are contact_batch.cpp.
 #include <algorithm>
+#include <cmath>
+
+#include "collision/contact_cache.h"
+#include "solver/contact_batch.h"
+#include "world/bodies.h"
 
 namespace fx2d::detail {
 namespace {
 
-// Row s's lever arms times row r's spins, arm_a(s) spin_a(r) + arm_b(s) spin_b(r), in one lane.
-float arms_times_spins(const float* arm_a, const float* arm_b, const float* spin_a, const float* spin_b,
-                       int lane) {
-  return arm_a[lane] * spin_a[lane] + arm_b[lane] * spin_b[lane];
+// Below this tangential speed (m/s) a contact counts as sticking and static friction applies.
+constexpr float sticking_speed = 0.01f;
+
+// Batches are built in ranges of as many batches as hold constraints_per_block constraints, and
+// spread from as many as hold min_parallel_constraints.
+constexpr std::uint32_t batches_per_block = constraints_per_block / lane_count;
+constexpr std::uint32_t min_parallel_batch_builds = min_parallel_constraints / lane_count;
+
+// The mass a row's impulse acts on, from its effective inverse mass: zero when nothing can move.
+[[gnu::always_inline]] inline float mass_of(float inverse_mass) {
+  return inverse_mass > 0.0f ? 1.0f / inverse_mass : 0.0f;
 }
 
-// How much row s's relative speed changes per unit impulse on row r: J_s M^-1 J_r^T, that is
-// (m_a + m_b) (d_s . d_r) + arm_a(s) spin_a(r) + arm_b(s) spin_b(r). Normal and tangent are
+// What one contact brings to its lane, read from the contact and its bodies: bodies, normal,
+// inverse masses, anchors, separations, impulses, and what restitution and friction need from the
+// velocities before the step. Writes that lane alone.
+void build_lane(ContactBatch& k, int lane, const ConstraintSource& source, const CachedContact& contact,
+                const Bodies& bodies) {
+  const BodySim& sim_a = bodies.sims[source.body_a];
+  const BodySim& sim_b = bodies.sims[source.body_b];
+  const FxVec2f normal = contact.manifold.normal;
+  const FxVec2f tangent = right_perp(normal);
+  k.body_a[lane] = source.body_a;
+  k.body_b[lane] = source.body_b;
+  k.normal_x[lane] = normal.x;
+  k.normal_y[lane] = normal.y;
+  k.inv_mass_a[lane] = sim_a.inv_mass;
+  k.inv_mass_b[lane] = sim_b.inv_mass;
+  k.inv_inertia_a[lane] = sim_a.inv_inertia;
+  k.inv_inertia_b[lane] = sim_b.inv_inertia;
+  k.restitution[lane] = contact.restitution;
+
+  // The manifold is in a frame centred on body a's origin; move it to the centres of mass.
+  const FxVec2f center_a = rotate(sim_a.rotation, sim_a.local_center);
+  const FxVec2f center_b = bodies.center_offset(source.body_a, source.body_b) + center_a;
+  float sliding_speed = 0.0f;
+  for (int i = 0; i < source.point_count; ++i) {
+    const ManifoldPoint& mp = contact.manifold.points[i];
+    PointColumns& column = k.point[i];
+    const FxVec2f anchor_a = mp.point - center_a;
+    const FxVec2f anchor_b = mp.point - center_b;
+    column.anchor_ax[lane] = anchor_a.x;
+    column.anchor_ay[lane] = anchor_a.y;
+    column.anchor_bx[lane] = anchor_b.x;
+    column.anchor_by[lane] = anchor_b.y;
+    column.adjusted_separation[lane] = mp.separation - dot(anchor_b - anchor_a, normal);
+    column.normal_impulse[lane] = contact.normal_impulse[i];
+    column.tangent_impulse[lane] = contact.tangent_impulse[i];
+    column.max_normal_impulse[lane] = 0.0f;
+    const FxVec2f dv = (sim_b.linear_velocity + cross(sim_b.angular_velocity, anchor_b)) -
+                       (sim_a.linear_velocity + cross(sim_a.angular_velocity, anchor_a));
+    k.relative_velocity[i][lane] = dot(dv, normal);
+    sliding_speed = std::max(sliding_speed, std::fabs(dot(dv, tangent)));
+  }
+  k.friction[lane] = sliding_speed > sticking_speed ? contact.dynamic_friction : contact.static_friction;
+}
+
+// The rows of every lane of a batch, from the normals, anchors and inverse masses build_lane()
+// wrote: each body's inverse mass times the normal; per point the lever arms about the normal and
+// the tangent right_perp(normal) = (ny, -nx), the spins a unit impulse there gives, the effective
+// masses 1 / (J M^-1 J^T); and the couplings between rows, J_s M^-1 J_r^T, that is
+// (m_a + m_b) (d_s . d_r) + arm_a(s) spin_a(r) + arm_b(s) spin_b(r): normal and tangent are
 // perpendicular, so the mass term appears only between rows of one direction.
-void add_couplings(ContactBatch& k, int lane, int points, float mass_sum) {
-  PointColumns* p = k.point;
-  for (int s = 0; s < points; ++s) {
-    for (int r = 0; r < points; ++r) {
-      p[s].tangent_from_normal[r][lane] = arms_times_spins(p[s].arm_tangent_a, p[s].arm_tangent_b,
-                                                           p[r].spin_normal_a, p[r].spin_normal_b, lane);
+template <int Points>
+[[gnu::always_inline]] inline void derive_rows(ContactBatch& __restrict k) {
+  // check-vectorized(2): the lane loop below, for one and two points, must be vectorised. Lanes
+  // are independent and padding lanes, all zero, come out zero.
+  for (int lane = 0; lane < lane_count; ++lane) {
+    const float nx = k.normal_x[lane], ny = k.normal_y[lane];
+    const float inv_mass_a = k.inv_mass_a[lane], inv_mass_b = k.inv_mass_b[lane];
+    const float inv_inertia_a = k.inv_inertia_a[lane], inv_inertia_b = k.inv_inertia_b[lane];
+    k.mass_normal_ax[lane] = inv_mass_a * nx;
+    k.mass_normal_ay[lane] = inv_mass_a * ny;
+    k.mass_normal_bx[lane] = inv_mass_b * nx;
+    k.mass_normal_by[lane] = inv_mass_b * ny;
+    const float mass_sum = inv_mass_a + inv_mass_b;
+    float arm_na[Points], arm_nb[Points], arm_ta[Points], arm_tb[Points];
+    float spin_na[Points], spin_nb[Points], spin_ta[Points], spin_tb[Points];
+    for (int i = 0; i < Points; ++i) {
+      PointColumns& p = k.point[i];
+      const float ax = p.anchor_ax[lane], ay = p.anchor_ay[lane], bx = p.anchor_bx[lane], by = p.anchor_by[lane];
+      arm_na[i] = ax * ny - ay * nx;
+      arm_nb[i] = bx * ny - by * nx;
+      arm_ta[i] = ax * -nx - ay * ny;
+      arm_tb[i] = bx * -nx - by * ny;
+      spin_na[i] = inv_inertia_a * arm_na[i];
+      spin_nb[i] = inv_inertia_b * arm_nb[i];
+      spin_ta[i] = inv_inertia_a * arm_ta[i];
+      spin_tb[i] = inv_inertia_b * arm_tb[i];
+      p.arm_normal_a[lane] = arm_na[i];
+      p.arm_normal_b[lane] = arm_nb[i];
+      p.arm_tangent_a[lane] = arm_ta[i];
+      p.arm_tangent_b[lane] = arm_tb[i];
+      p.spin_normal_a[lane] = spin_na[i];
+      p.spin_normal_b[lane] = spin_nb[i];
+      p.spin_tangent_a[lane] = spin_ta[i];
+      p.spin_tangent_b[lane] = spin_tb[i];
+      p.normal_mass[lane] = mass_of(mass_sum + spin_na[i] * arm_na[i] + spin_nb[i] * arm_nb[i]);
+      p.tangent_mass[lane] = mass_of(mass_sum + spin_ta[i] * arm_ta[i] + spin_tb[i] * arm_tb[i]);
+    }
+    for (int s = 0; s < Points; ++s) {
+      for (int r = 0; r < Points; ++r) {
+        k.point[s].tangent_from_normal[r][lane] = arm_ta[s] * spin_na[r] + arm_tb[s] * spin_nb[r];
+      }
+    }
+    if constexpr (Points == 2) {
+      k.normal1_from_normal0[lane] = mass_sum + (arm_na[1] * spin_na[0] + arm_nb[1] * spin_nb[0]);
+      k.tangent1_from_tangent0[lane] = mass_sum + (arm_ta[1] * spin_ta[0] + arm_tb[1] * spin_tb[0]);
     }
   }
-  if (points == 2) {
-    k.normal1_from_normal0[lane] = mass_sum + arms_times_spins(p[1].arm_normal_a, p[1].arm_normal_b,
-                                                               p[0].spin_normal_a, p[0].spin_normal_b, lane);
-    k.tangent1_from_tangent0[lane] =
-        mass_sum + arms_times_spins(p[1].arm_tangent_a, p[1].arm_tangent_b, p[0].spin_tangent_a,
-                                    p[0].spin_tangent_b, lane);
+}
+
+FX2D_LANE_KERNEL void derive_batch_rows(ContactBatch& k, int points) {
+  if (points == 1) {
+    derive_rows<1>(k);
+  } else {
+    derive_rows<2>(k);
   }
 }
 
 }  // namespace
 
-void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, std::span<const int> members, bool serial,
-                              std::uint32_t padding_body) {
+void ContactBatches::add_runs(const ContactGraph& graph, int colour, bool serial) {
   for (int points = 1; points <= 2; ++points) {
-    BatchRun run{static_cast<int>(batches_.size()), 0, points, serial};
-    int lane = lane_count;
-    for (const int index : members) {
-      const ContactConstraint& c = constraints[index];
-      if (c.point_count != points) continue;
-      if (lane == lane_count) {
-        ContactBatch& fresh = batches_.emplace_back();
-        fresh = ContactBatch{};
-        std::fill(std::begin(fresh.body_a), std::end(fresh.body_a), padding_body);
-        std::fill(std::begin(fresh.body_b), std::end(fresh.body_b), padding_body);
-        std::fill(std::begin(fresh.constraint), std::end(fresh.constraint), -1);
-        ++run.count;
-        lane = 0;
-      }
-      ContactBatch& k = batches_.back();
-      k.body_a[lane] = c.body_a;
-      k.body_b[lane] = c.body_b;
-      k.normal_x[lane] = c.normal.x;
-      k.normal_y[lane] = c.normal.y;
-      k.mass_normal_ax[lane] = c.inv_mass_a * c.normal.x;
-      k.mass_normal_ay[lane] = c.inv_mass_a * c.normal.y;
-      k.mass_normal_bx[lane] = c.inv_mass_b * c.normal.x;
-      k.mass_normal_by[lane] = c.inv_mass_b * c.normal.y;
-      k.friction[lane] = c.friction;
-      k.constraint[lane] = index;
-      const FxVec2f tangent = right_perp(c.normal);
-      for (int i = 0; i < points; ++i) {
-        const ContactPointConstraint& cp = c.points[i];
-        PointColumns& column = k.point[i];
-        column.anchor_ax[lane] = cp.anchor_a.x;
-        column.anchor_ay[lane] = cp.anchor_a.y;
-        column.anchor_bx[lane] = cp.anchor_b.x;
-        column.anchor_by[lane] = cp.anchor_b.y;
-        column.adjusted_separation[lane] = cp.adjusted_separation;
-        column.normal_mass[lane] = cp.normal_mass;
-        column.tangent_mass[lane] = cp.tangent_mass;
-        column.normal_impulse[lane] = cp.normal_impulse;
-        column.tangent_impulse[lane] = cp.tangent_impulse;
-        column.max_normal_impulse[lane] = 0.0f;
-        column.arm_normal_a[lane] = cross(cp.anchor_a, c.normal);
-        column.arm_normal_b[lane] = cross(cp.anchor_b, c.normal);
-        column.arm_tangent_a[lane] = cross(cp.anchor_a, tangent);
-        column.arm_tangent_b[lane] = cross(cp.anchor_b, tangent);
-        column.spin_normal_a[lane] = c.inv_inertia_a * column.arm_normal_a[lane];
-        column.spin_normal_b[lane] = c.inv_inertia_b * column.arm_normal_b[lane];
-        column.spin_tangent_a[lane] = c.inv_inertia_a * column.arm_tangent_a[lane];
-        column.spin_tangent_b[lane] = c.inv_inertia_b * column.arm_tangent_b[lane];
-      }
-      add_couplings(k, lane, points, c.inv_mass_a + c.inv_mass_b);
-      ++lane;
+    const std::span<const int> members = graph.members(colour, points);
+    const int count = static_cast<int>((members.size() + lane_count - 1) / lane_count);
+    if (count == 0) continue;
+    runs_.push_back({static_cast<int>(members_.size()), count, points, serial});
+    for (std::size_t first = 0; first < members.size(); first += lane_count) {
+      members_.push_back({members.data() + first, static_cast<int>(std::min<std::size_t>(lane_count, members.size() - first))});
     }
-    if (run.count > 0) runs_.push_back(run);
   }
+}
+
+void ContactBatches::build_batch(int index, std::span<const ConstraintSource> constraints,
+                                 const ContactCache& contacts, const Bodies& bodies, std::uint32_t padding_body) {
+  ContactBatch& k = batches_[index];
+  const BatchMembers members = members_[index];
+  // Padding lanes point at the padding body with every value zero, so they change nothing.
+  if (members.count < lane_count) {
+    k = ContactBatch{};
+    std::fill(std::begin(k.body_a) + members.count, std::end(k.body_a), padding_body);
+    std::fill(std::begin(k.body_b) + members.count, std::end(k.body_b), padding_body);
+  }
+  for (int lane = 0; lane < members.count; ++lane) {
+    const int constraint = members.first[lane];
+    const ConstraintSource& source = constraints[constraint];
+    build_lane(k, lane, source, contacts.slots[source.cache_id], bodies);
+    lanes_[constraint] = index * lane_count + lane;
+  }
+  derive_batch_rows(k, constraints[members.first[0]].point_count);
 }
 
 void ContactBatches::reserve(std::size_t constraints) {
   // Full batches, plus one partly filled batch per run: two runs per colour and two for overflow.
   batches_.reserve(constraints / lane_count + 2 * (ContactGraph::max_colours + 1));
+  members_.reserve(batches_.capacity());
   deep_.reserve(batches_.capacity());
+  lanes_.reserve(constraints);
   runs_.reserve(2 * (ContactGraph::max_colours + 1));
 }
 
-void ContactBatches::pack(std::span<const ContactConstraint> constraints, const ContactGraph& graph,
-                          std::uint32_t padding_body, const Tasks& tasks, bool scalar) {
-  batches_.clear();
+void ContactBatches::pack(std::span<const ConstraintSource> constraints, const ContactGraph& graph,
+                          const ContactCache& contacts, const Bodies& bodies, std::uint32_t padding_body,
+                          const Tasks& tasks, bool scalar) {
+  members_.clear();
   runs_.clear();
   colour_count_ = graph.colour_count();
   std::uint32_t widest_colour = 0;
   for (int colour = 0; colour < colour_count_; ++colour) {
     first_run_[colour] = static_cast<int>(runs_.size());
-    const auto first_batch = batches_.size();
-    add_runs(constraints, graph.members(colour), false, padding_body);
-    widest_colour = std::max(widest_colour, static_cast<std::uint32_t>(batches_.size() - first_batch));
+    const auto first_batch = members_.size();
+    add_runs(graph, colour, false);
+    widest_colour = std::max(widest_colour, static_cast<std::uint32_t>(members_.size() - first_batch));
   }
   first_run_[colour_count_] = static_cast<int>(runs_.size());
-  add_runs(constraints, graph.members(ContactGraph::overflow), true, padding_body);
+  add_runs(graph, ContactGraph::overflow, true);
+  batch_count_ = static_cast<int>(members_.size());
+  if (batches_.size() < members_.size()) batches_.resize(members_.size());
+  lanes_.resize(constraints.size());
+  // Each range builds only its own batches and the lane indices of their constraints.
+  tasks.for_each_range(static_cast<std::uint32_t>(batch_count_), batches_per_block, min_parallel_batch_builds,
+                       [&](std::uint32_t first, std::uint32_t last) {
+                         for (std::uint32_t i = first; i < last; ++i) {
+                           build_batch(static_cast<int>(i), constraints, contacts, bodies, padding_body);
+                         }
+                       });
   // The scalar twin is a check of the lanes' arithmetic, and its lane-by-lane write-back of a
   // shared static body would race: it stays on one thread.
   spread_ = !scalar && tasks.runs_in_parallel(widest_colour, min_parallel_batches);
-  deep_.assign(batches_.size(), 0);
+  // Every mark is written by update_separations() before a pass reads it.
+  deep_.resize(members_.size());
   any_deep_ = false;
-}
-
-void ContactBatches::unpack(std::span<ContactConstraint> constraints) const {
-  for (const BatchRun& run : runs_) {
-    for (int i = run.first; i < run.first + run.count; ++i) {
-      const ContactBatch& k = batches_[i];
-      for (int lane = 0; lane < lane_count; ++lane) {
-        if (k.constraint[lane] < 0) continue;
-        ContactConstraint& c = constraints[k.constraint[lane]];
-        for (int p = 0; p < run.point_count; ++p) {
-          c.points[p].normal_impulse = k.point[p].normal_impulse[lane];
-          c.points[p].tangent_impulse = k.point[p].tangent_impulse[lane];
-          c.points[p].max_normal_impulse = k.point[p].max_normal_impulse[lane];
-        }
-      }
-    }
-  }
 }
 
 }  // namespace fx2d::detail

@@ -1,49 +1,62 @@
-// Contact constraints built from the cache for one step, and the parts solved contact by contact
+// Which contacts become the step's constraints, and the parts solved contact by contact
 // (contact_solver.h): restitution after the substeps, the position projection, and the storage of
-// impulses for the next step's warm start.
+// impulses for the next step's warm start, each reading the constraint in its batch's lane.
 #include "solver/contact_solver.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include "world/bodies.h"
 #include "collision/contact_cache.h"
+#include "solver/contact_batch.h"
 
 namespace fx2d::detail {
 namespace {
 
-// Below this tangential speed (m/s) a contact counts as sticking and static friction applies.
-constexpr float sticking_speed = 0.01f;
 // The position projection corrects this fraction of the excess overlap per pass, and at most
 // max_projection metres, so that a deep overlap is resolved over several steps, not in one jump.
 constexpr float projection_fraction = 0.2f;
 constexpr float max_projection = 0.2f;
 
+// One constraint as the contact-by-contact passes see it: its lane, and the bodies' inverse masses.
+struct LaneConstraint {
+  const ContactBatch& k;
+  int lane;
+
+  FxVec2f normal() const { return {k.normal_x[lane], k.normal_y[lane]}; }
+  FxVec2f anchor_a(int point) const { return {k.point[point].anchor_ax[lane], k.point[point].anchor_ay[lane]}; }
+  FxVec2f anchor_b(int point) const { return {k.point[point].anchor_bx[lane], k.point[point].anchor_by[lane]}; }
+  float inv_mass_a() const { return k.inv_mass_a[lane]; }
+  float inv_mass_b() const { return k.inv_mass_b[lane]; }
+  float inv_inertia_a() const { return k.inv_inertia_a[lane]; }
+  float inv_inertia_b() const { return k.inv_inertia_b[lane]; }
+
+  float effective_mass(FxVec2f arm_a, FxVec2f arm_b, FxVec2f direction) const {
+    const float ra = cross(arm_a, direction);
+    const float rb = cross(arm_b, direction);
+    const float mass = inv_mass_a() + inv_mass_b() + inv_inertia_a() * ra * ra + inv_inertia_b() * rb * rb;
+    return mass > 0.0f ? 1.0f / mass : 0.0f;
+  }
+
+  // An impulse at point `point`'s anchors: A loses and B gains.
+  void apply_impulse(FxBodyState& a, FxBodyState& b, int point, FxVec2f impulse) const {
+    a.linear_velocity -= inv_mass_a() * impulse;
+    a.angular_velocity -= inv_inertia_a() * cross(anchor_a(point), impulse);
+    b.linear_velocity += inv_mass_b() * impulse;
+    b.angular_velocity += inv_inertia_b() * cross(anchor_b(point), impulse);
+  }
+
+  // Point `point`'s separation now, from the displacement and rotation of both bodies since the
+  // step began.
+  float current_separation(const FxBodyState& a, const FxBodyState& b, int point) const {
+    const FxVec2f moved_a = rotate(a.delta_rotation, anchor_a(point));
+    const FxVec2f moved_b = rotate(b.delta_rotation, anchor_b(point));
+    const FxVec2f gap = (b.delta_position - a.delta_position) + (moved_b - moved_a);
+    return dot(gap, normal()) + k.point[point].adjusted_separation[lane];
+  }
+};
+
 FxVec2f point_velocity(const FxBodyState& state, FxVec2f anchor) {
   return state.linear_velocity + cross(state.angular_velocity, anchor);
-}
-
-float effective_mass(const ContactConstraint& c, FxVec2f anchor_a, FxVec2f anchor_b, FxVec2f direction) {
-  const float ra = cross(anchor_a, direction);
-  const float rb = cross(anchor_b, direction);
-  const float k = c.inv_mass_a + c.inv_mass_b + c.inv_inertia_a * ra * ra + c.inv_inertia_b * rb * rb;
-  return k > 0.0f ? 1.0f / k : 0.0f;
-}
-
-void apply_impulse(FxBodyState& a, FxBodyState& b, const ContactConstraint& c, const ContactPointConstraint& p,
-                   FxVec2f impulse) {
-  a.linear_velocity -= c.inv_mass_a * impulse;
-  a.angular_velocity -= c.inv_inertia_a * cross(p.anchor_a, impulse);
-  b.linear_velocity += c.inv_mass_b * impulse;
-  b.angular_velocity += c.inv_inertia_b * cross(p.anchor_b, impulse);
-}
-
-// Separation now, from the displacement and rotation of both bodies since the step began.
-float current_separation(const FxBodyState& a, const FxBodyState& b, FxVec2f normal, const ContactPointConstraint& p) {
-  const FxVec2f moved_a = rotate(a.delta_rotation, p.anchor_a);
-  const FxVec2f moved_b = rotate(b.delta_rotation, p.anchor_b);
-  const FxVec2f gap = (b.delta_position - a.delta_position) + (moved_b - moved_a);
-  return dot(gap, normal) + p.adjusted_separation;
 }
 
 // Whether a contact becomes a constraint this step: touching, with an awake body.
@@ -51,121 +64,83 @@ bool is_active(const CachedContact& contact, const Bodies& bodies) {
   return contact.touching && (bodies.records[contact.body_a].awake || bodies.records[contact.body_b].awake);
 }
 
-// The constraint of one active contact: reads the contact and its bodies, writes `c` alone.
-void build_constraint(ContactConstraint& c, int id, const CachedContact& contact, const Bodies& bodies) {
-  const BodySim& sim_a = bodies.sims[contact.body_a];
-  const BodySim& sim_b = bodies.sims[contact.body_b];
-  c.body_a = contact.body_a;
-  c.body_b = contact.body_b;
-  c.cache_id = id;
-  c.point_count = contact.manifold.point_count;
-  c.normal = contact.manifold.normal;
-  c.inv_mass_a = sim_a.inv_mass;
-  c.inv_inertia_a = sim_a.inv_inertia;
-  c.inv_mass_b = sim_b.inv_mass;
-  c.inv_inertia_b = sim_b.inv_inertia;
-  c.restitution = contact.restitution;
-
-  // The manifold is in a frame centred on body a's origin; move it to the centres of mass.
-  const FxVec2f center_a = rotate(sim_a.rotation, sim_a.local_center);
-  const FxVec2f center_b = bodies.center_offset(contact.body_a, contact.body_b) + center_a;
-  const FxVec2f tangent = right_perp(c.normal);
-  float sliding_speed = 0.0f;
-  for (int i = 0; i < c.point_count; ++i) {
-    const ManifoldPoint& mp = contact.manifold.points[i];
-    ContactPointConstraint& p = c.points[i];
-    p.anchor_a = mp.point - center_a;
-    p.anchor_b = mp.point - center_b;
-    p.adjusted_separation = mp.separation - dot(p.anchor_b - p.anchor_a, c.normal);
-    p.normal_mass = effective_mass(c, p.anchor_a, p.anchor_b, c.normal);
-    p.tangent_mass = effective_mass(c, p.anchor_a, p.anchor_b, tangent);
-    p.normal_impulse = contact.normal_impulse[i];
-    p.tangent_impulse = contact.tangent_impulse[i];
-    p.max_normal_impulse = 0.0f;
-    const FxVec2f dv = (sim_b.linear_velocity + cross(sim_b.angular_velocity, p.anchor_b)) -
-                       (sim_a.linear_velocity + cross(sim_a.angular_velocity, p.anchor_a));
-    p.relative_velocity = dot(dv, c.normal);
-    sliding_speed = std::max(sliding_speed, std::fabs(dot(dv, tangent)));
-  }
-  c.friction = sliding_speed > sticking_speed ? contact.dynamic_friction : contact.static_friction;
-}
-
 }  // namespace
 
 void ContactSolver::reserve(std::size_t constraint_count) {
-  constraints.reserve(constraint_count);
   sources_.reserve(constraint_count);
+  bouncing_.reserve(constraint_count);
 }
 
-void ContactSolver::prepare(const ContactCache& contacts, const Bodies& bodies, const Tasks& tasks) {
-  constraints.clear();
-  if (!tasks.runs_in_parallel(static_cast<std::uint32_t>(contacts.touching_count), min_parallel_constraints)) {
-    for (int id = 0; id < static_cast<int>(contacts.slots.size()); ++id) {
-      const CachedContact& contact = contacts.slots[id];
-      if (is_active(contact, bodies)) build_constraint(constraints.emplace_back(), id, contact, bodies);
-    }
-    return;
-  }
-  // Which contacts become constraints, in cache order, on this thread; then each constraint in
-  // ranges, each writing only its own.
-  sources_.clear();
+void ContactSolver::prepare(const ContactCache& contacts, const Bodies& bodies) {
+  clear();
   for (int id = 0; id < static_cast<int>(contacts.slots.size()); ++id) {
-    if (is_active(contacts.slots[id], bodies)) sources_.push_back(id);
+    const CachedContact& contact = contacts.slots[id];
+    if (!is_active(contact, bodies)) continue;
+    if (contact.restitution != 0.0f) bouncing_.push_back(static_cast<int>(sources_.size()));
+    sources_.push_back({contact.body_a, contact.body_b, id, contact.manifold.point_count});
   }
-  constraints.resize(sources_.size());
-  tasks.for_each_range(static_cast<std::uint32_t>(sources_.size()), constraints_per_block, min_parallel_constraints,
-                       [&](std::uint32_t first, std::uint32_t last) {
-                         for (std::uint32_t i = first; i < last; ++i) {
-                           build_constraint(constraints[i], sources_[i], contacts.slots[sources_[i]], bodies);
-                         }
-                       });
 }
 
-void ContactSolver::apply_restitution(std::span<FxBodyState> states, float threshold) {
-  for (ContactConstraint& c : constraints) {
-    if (c.restitution == 0.0f) continue;
-    FxBodyState& a = states[c.body_a];
-    FxBodyState& b = states[c.body_b];
-    for (int i = 0; i < c.point_count; ++i) {
-      ContactPointConstraint& p = c.points[i];
-      if (p.relative_velocity > -threshold || p.max_normal_impulse == 0.0f) continue;
-      const float vn = dot(point_velocity(b, p.anchor_b) - point_velocity(a, p.anchor_a), c.normal);
-      const float delta = -p.normal_mass * (vn + c.restitution * p.relative_velocity);
-      const float accumulated = std::max(p.normal_impulse + delta, 0.0f);
-      const float applied = accumulated - p.normal_impulse;
-      p.normal_impulse = accumulated;
-      apply_impulse(a, b, c, p, applied * c.normal);
+void ContactSolver::clear() {
+  sources_.clear();
+  bouncing_.clear();
+}
+
+void ContactSolver::apply_restitution(ContactBatches& batches, std::span<FxBodyState> states, float threshold) const {
+  for (const int i : bouncing_) {
+    const ConstraintSource& source = sources_[i];
+    ContactBatch& k = batches.batch_holding(i);
+    const LaneConstraint c{k, batches.lane_holding(i)};
+    const int lane = c.lane;
+    const float restitution = k.restitution[lane];
+    FxBodyState& a = states[source.body_a];
+    FxBodyState& b = states[source.body_b];
+    for (int p = 0; p < source.point_count; ++p) {
+      PointColumns& point = k.point[p];
+      const float relative_velocity = k.relative_velocity[p][lane];
+      if (relative_velocity > -threshold || point.max_normal_impulse[lane] == 0.0f) continue;
+      const float vn = dot(point_velocity(b, c.anchor_b(p)) - point_velocity(a, c.anchor_a(p)), c.normal());
+      const float delta = -point.normal_mass[lane] * (vn + restitution * relative_velocity);
+      const float accumulated = std::max(point.normal_impulse[lane] + delta, 0.0f);
+      const float applied = accumulated - point.normal_impulse[lane];
+      point.normal_impulse[lane] = accumulated;
+      c.apply_impulse(a, b, p, applied * c.normal());
     }
   }
 }
 
-void ContactSolver::project_positions(std::span<FxBodyState> states, float linear_slop) const {
-  for (const ContactConstraint& c : constraints) {
-    FxBodyState& a = states[c.body_a];
-    FxBodyState& b = states[c.body_b];
-    for (int i = 0; i < c.point_count; ++i) {
-      const ContactPointConstraint& p = c.points[i];
-      const float separation = current_separation(a, b, c.normal, p);
+void ContactSolver::project_positions(const ContactBatches& batches, std::span<FxBodyState> states,
+                                      float linear_slop) const {
+  for (int i = 0; i < static_cast<int>(sources_.size()); ++i) {
+    const ConstraintSource& source = sources_[i];
+    const LaneConstraint c{batches.batch_holding(i), batches.lane_holding(i)};
+    FxBodyState& a = states[source.body_a];
+    FxBodyState& b = states[source.body_b];
+    for (int p = 0; p < source.point_count; ++p) {
+      const float separation = c.current_separation(a, b, p);
       const float correction = std::clamp(projection_fraction * (separation + linear_slop), -max_projection, 0.0f);
       if (correction == 0.0f) continue;
-      const FxVec2f moved_a = rotate(a.delta_rotation, p.anchor_a);
-      const FxVec2f moved_b = rotate(b.delta_rotation, p.anchor_b);
-      const float mass = effective_mass(c, moved_a, moved_b, c.normal);
-      const FxVec2f impulse = (-correction * mass) * c.normal;
-      a.delta_position -= c.inv_mass_a * impulse;
-      a.delta_rotation = integrate_rotation(a.delta_rotation, -c.inv_inertia_a * cross(moved_a, impulse));
-      b.delta_position += c.inv_mass_b * impulse;
-      b.delta_rotation = integrate_rotation(b.delta_rotation, c.inv_inertia_b * cross(moved_b, impulse));
+      const FxVec2f moved_a = rotate(a.delta_rotation, c.anchor_a(p));
+      const FxVec2f moved_b = rotate(b.delta_rotation, c.anchor_b(p));
+      const float mass = c.effective_mass(moved_a, moved_b, c.normal());
+      const FxVec2f impulse = (-correction * mass) * c.normal();
+      a.delta_position -= c.inv_mass_a() * impulse;
+      a.delta_rotation = integrate_rotation(a.delta_rotation, -c.inv_inertia_a() * cross(moved_a, impulse));
+      b.delta_position += c.inv_mass_b() * impulse;
+      b.delta_rotation = integrate_rotation(b.delta_rotation, c.inv_inertia_b() * cross(moved_b, impulse));
     }
   }
 }
 
-void ContactSolver::store_impulses(ContactCache& cache) const {
-  for (const ContactConstraint& c : constraints) {
-    CachedContact& contact = cache.slots[c.cache_id];
-    for (int i = 0; i < c.point_count; ++i) {
-      contact.normal_impulse[i] = c.points[i].normal_impulse;
-      contact.tangent_impulse[i] = c.points[i].tangent_impulse;
+void ContactSolver::store_impulses(const ContactBatches& batches, ContactCache& cache) const {
+  for (int i = 0; i < static_cast<int>(sources_.size()); ++i) {
+    const ConstraintSource& source = sources_[i];
+    const ContactBatch& k = batches.batch_holding(i);
+    const int lane = batches.lane_holding(i);
+    CachedContact& contact = cache.slots[source.cache_id];
+    for (int p = 0; p < source.point_count; ++p) {
+      contact.normal_impulse[p] = k.point[p].normal_impulse[lane];
+      contact.tangent_impulse[p] = k.point[p].tangent_impulse[lane];
     }
   }
 }

@@ -1,11 +1,14 @@
 // Contact constraints for one step: soft sequential impulses on the normal and friction rows.
 //
-// prepare() copies everything a velocity pass needs (body indices, inverse masses, anchors,
-// effective masses, the resolved friction) into one contiguous array, so that the substep loop
-// touches no body record and no cache entry. Anchors are taken relative to the centres of mass
-// at the step's start, and the current separation is recovered from the bodies' displacement
-// since then, so contacts are solved without re-running collision in every substep (Catto,
-// "Solver2D", 2024: soft step with relaxation).
+// prepare() lists the contacts that become constraints this step (ConstraintSource), in contact
+// cache order; the constraints' values are then worked out straight into their lanes of the
+// eight-lane batches (ContactBatches::pack, contact_packing.cpp), which hold them for the whole
+// step, so that the substep loop touches no body record and no cache entry. Anchors are taken
+// relative to the centres of mass at the step's start, and the current separation is recovered
+// from the bodies' displacement since then, so contacts are solved without re-running collision
+// in every substep (Catto, "Solver2D", 2024: soft step with relaxation). What is solved contact by
+// contact, in constraint order (restitution, the position projection), reads each constraint in
+// its lane.
 #pragma once
 
 #include <cstdint>
@@ -13,36 +16,19 @@
 #include <vector>
 
 #include "fx2d/Constraint.h"
-#include "world/tasks.h"
 
 namespace fx2d::detail {
 
 struct Bodies;
+class ContactBatches;
 class ContactCache;
 
-struct ContactPointConstraint {
-  FxVec2f anchor_a;               // contact point minus centre of mass a, at the step's start
-  FxVec2f anchor_b;
-  float adjusted_separation = 0;  // separation less the anchors' offset along the normal
-  float normal_mass = 0;
-  float tangent_mass = 0;
-  float normal_impulse = 0;
-  float tangent_impulse = 0;
-  float max_normal_impulse = 0;   // largest impulse of the step: did this point ever push?
-  float relative_velocity = 0;    // normal velocity before the step, for restitution
-};
-
-struct ContactConstraint {
+// A contact that is a constraint this step: what the colouring and the packing need to place it.
+struct ConstraintSource {
   std::uint32_t body_a = 0;
   std::uint32_t body_b = 0;
   int cache_id = 0;
-  int point_count = 0;
-  FxVec2f normal;
-  float inv_mass_a = 0, inv_inertia_a = 0;
-  float inv_mass_b = 0, inv_inertia_b = 0;
-  float friction = 0;
-  float restitution = 0;
-  ContactPointConstraint points[2];
+  int point_count = 1;  // 1 or 2
 };
 
 struct ContactSolveParams {
@@ -55,8 +41,8 @@ struct ContactSolveParams {
   float linear_slop = 0;
 };
 
-// Constraints per range of a prepare() spread over the workers, and the fewest touching contacts
-// worth spreading it for (measured: see fx2d/src/README.md).
+// Constraints per range of a pack() spread over the workers, and the fewest worth spreading it for
+// (measured: see fx2d/src/README.md).
 inline constexpr std::uint32_t constraints_per_block = 64;
 inline constexpr std::uint32_t min_parallel_constraints = 128;
 
@@ -64,19 +50,21 @@ class ContactSolver {
  public:
   // Grows storage for this many constraints, so prepare() does not allocate up to there.
   void reserve(std::size_t constraint_count);
-  // Builds one constraint per touching contact that has an awake body, in contact cache order;
-  // the constraints' arithmetic spread over `tasks` when there are enough.
-  void prepare(const ContactCache& contacts, const Bodies& bodies, const Tasks& tasks);
+  // Lists one constraint per touching contact that has an awake body, in contact cache order.
+  void prepare(const ContactCache& contacts, const Bodies& bodies);
+  // Lists none: a world asleep.
+  void clear();
   // After the substeps: bounce where an approaching point pushed and restitution is > 0.
-  void apply_restitution(std::span<FxBodyState> states, float threshold);
+  void apply_restitution(ContactBatches& batches, std::span<FxBodyState> states, float threshold) const;
   // Non-linear Gauss-Seidel projection of overlaps deeper than the slop, on positions only.
-  void project_positions(std::span<FxBodyState> states, float linear_slop) const;
-  void store_impulses(ContactCache& cache) const;
+  void project_positions(const ContactBatches& batches, std::span<FxBodyState> states, float linear_slop) const;
+  void store_impulses(const ContactBatches& batches, ContactCache& cache) const;
 
-  std::vector<ContactConstraint> constraints;
+  std::span<const ConstraintSource> sources() const { return sources_; }
 
  private:
-  std::vector<int> sources_;  // per constraint, its contact's cache id (a spread prepare() only)
+  std::vector<ConstraintSource> sources_;
+  std::vector<int> bouncing_;  // the constraints whose restitution is > 0, in order
 };
 
 }  // namespace fx2d::detail

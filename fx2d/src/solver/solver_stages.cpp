@@ -112,13 +112,13 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   const std::vector<BodySim>& sims = bodies.sims;
   BodyIntegration& integration = solver.integration;
   std::vector<FxBodyState>& states = solver.states;
-  integration.clear(step.body_count);
+  integration.clear(step.body_count, records.size());
   // A world asleep gathers no state and builds no constraint (a touching constraint always has an
   // awake body): the stages after this one read only the empty lists of moving bodies and
   // constraints.
   if (bodies.awake_count == 0) {
     integration.finish();
-    solver.contact_solver.constraints.clear();
+    solver.contact_solver.clear();
     return;
   }
   const float h = step.substep_dt;
@@ -136,13 +136,13 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
                             1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping));
   }
   integration.finish();
-  solver.contact_solver.prepare(contacts, bodies, step.tasks);
+  solver.contact_solver.prepare(contacts, bodies);
 }
 
-void colour_and_pack(const StepContext& step, SolverData& solver) {
-  const std::vector<ContactConstraint>& constraints = solver.contact_solver.constraints;
+void colour_and_pack(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts) {
+  const std::span<const ConstraintSource> constraints = solver.contact_solver.sources();
   solver.contact_graph.build(constraints, solver.states);
-  solver.contact_batches.pack(constraints, solver.contact_graph, step.body_count, step.tasks,
+  solver.contact_batches.pack(constraints, solver.contact_graph, contacts, bodies, step.body_count, step.tasks,
                               step.settings.force_scalar_solver);
   solver.contact_batches.update_separations(solver.states, step.contact.linear_slop, step.tasks);
 }
@@ -227,13 +227,12 @@ void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& b
 }
 
 void apply_restitution(const StepContext& step, SolverData& solver) {
-  solver.contact_batches.unpack(solver.contact_solver.constraints);
-  solver.contact_solver.apply_restitution(solver.states, step.settings.restitution_threshold);
+  solver.contact_solver.apply_restitution(solver.contact_batches, solver.states, step.settings.restitution_threshold);
 }
 
 void solve_positions(const StepContext& step, SolverData& solver) {
   for (int pass = 0; pass < step.settings.position_passes; ++pass) {
-    solver.contact_solver.project_positions(solver.states, step.settings.linear_slop);
+    solver.contact_solver.project_positions(solver.contact_batches, solver.states, step.settings.linear_slop);
   }
 }
 
@@ -247,6 +246,8 @@ void finalize_bodies(const StepContext& step, const SolverData& solver, Bodies& 
                             });
 }
 
-void store_impulses(const SolverData& solver, ContactCache& contacts) { solver.contact_solver.store_impulses(contacts); }
+void store_impulses(const SolverData& solver, ContactCache& contacts) {
+  solver.contact_solver.store_impulses(solver.contact_batches, contacts);
+}
 
 }  // namespace fx2d::detail

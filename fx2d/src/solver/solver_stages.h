@@ -33,12 +33,12 @@ struct SolverData {
   void reserve(std::size_t bodies);
 };
 
-// Stage prepare: gathers the bodies' hot state and builds one constraint per touching contact
+// Stage prepare: gathers the bodies' hot state and lists one constraint per touching contact
 // with an awake body.
 void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts);
-// Stage colour_and_pack: colours the contact constraints, packs them into batches and works out
-// their separations at the step's start.
-void colour_and_pack(const StepContext& step, SolverData& solver);
+// Stage colour_and_pack: colours the contact constraints, builds each from its contact and bodies
+// into its lane of the batches and works out their separations at the step's start.
+void colour_and_pack(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts);
 // The substeps, each stage timed as its own FxStage: integrate, warm start, solve, integrate,
 // relax; user constraints (joints) are solved in the same passes, contacts last.
 void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& bodies, const Constraints& constraints);

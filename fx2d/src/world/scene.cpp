@@ -3,8 +3,8 @@
 //
 //   broad_phase      update_broad_phase()     proxies, new pairs                      broad_phase.h
 //   collide          update_contacts()        manifolds, contact cache                narrow_phase.h
-//   prepare          prepare_solver()         gather body state, contact constraints  solver_stages.h
-//   colour_and_pack  colour_and_pack()        colour the constraints, pack batches
+//   prepare          prepare_solver()         gather body state, list the contacts    solver_stages.h
+//   colour_and_pack  colour_and_pack()        colour them, build constraints in lanes
 //                    solve_substeps()         per substep:
 //   integrate          integrate_velocities()   gravity, forces, damping
 //   warm_start         warm_start()             the accumulated impulses
@@ -121,7 +121,7 @@ void World::step() {
     clock.switch_to(FxStage::prepare);
     prepare_solver(step, solver_, bodies_, contacts_);
     clock.switch_to(FxStage::colour_and_pack);
-    colour_and_pack(step, solver_);
+    colour_and_pack(step, solver_, bodies_, contacts_);
     solve_substeps(step, solver_, bodies_, constraints_);
     clock.switch_to(FxStage::restitution);
     apply_restitution(step, solver_);
