@@ -92,6 +92,9 @@ struct alignas(32) ContactBatch {
   // speed per unit impulse on the first (solve_lane).
   float normal1_from_normal0[lane_count];
   float tangent1_from_tangent0[lane_count];
+  // The body the normal turns with when the separations are updated: a NormalFrame, as an int so
+  // that the lane loop compares it in vector registers.
+  std::int32_t normal_frame[lane_count];
   // Per manifold point, each point's columns together: a one-point batch never touches the
   // second point's, so its passes read half the cache lines.
   PointColumns point[2];

@@ -59,6 +59,7 @@ void ContactBatches::add_runs(std::span<const ContactConstraint> constraints, st
       k.body_b[lane] = c.body_b;
       k.normal_x[lane] = c.normal.x;
       k.normal_y[lane] = c.normal.y;
+      k.normal_frame[lane] = static_cast<std::int32_t>(c.normal_frame);
       k.mass_normal_ax[lane] = c.inv_mass_a * c.normal.x;
       k.mass_normal_ay[lane] = c.inv_mass_a * c.normal.y;
       k.mass_normal_bx[lane] = c.inv_mass_b * c.normal.x;

@@ -60,6 +60,7 @@ void build_constraint(ContactConstraint& c, int id, const CachedContact& contact
   c.cache_id = id;
   c.point_count = contact.manifold.point_count;
   c.normal = contact.manifold.normal;
+  c.normal_frame = contact.manifold.normal_frame;
   c.inv_mass_a = sim_a.inv_mass;
   c.inv_inertia_a = sim_a.inv_inertia;
   c.inv_mass_b = sim_b.inv_mass;

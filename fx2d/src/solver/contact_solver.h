@@ -5,13 +5,17 @@
 // touches no body record and no cache entry. Anchors are taken relative to the centres of mass
 // at the step's start, and the current separation is recovered from the bodies' displacement
 // since then, so contacts are solved without re-running collision in every substep (Catto,
-// "Solver2D", 2024: soft step with relaxation).
+// "Solver2D", 2024: soft step with relaxation). That separation is measured along the normal as
+// turned with the body whose face it is (NormalFrame): a box that turns 0.2 rad within the step
+// tilts its face under the other body's corner, and measured along the normal fixed at the step's
+// start that corner sank 17 mm in (solver_test's BoxSpinningOntoABoxDoesNotSinkItsCornerIn).
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "collision/collide.h"
 #include "fx2d/Constraint.h"
 #include "world/tasks.h"
 
@@ -38,6 +42,7 @@ struct ContactConstraint {
   int cache_id = 0;
   int point_count = 0;
   FxVec2f normal;
+  NormalFrame normal_frame = NormalFrame::world;  // the body the normal turns with
   float inv_mass_a = 0, inv_inertia_a = 0;
   float inv_mass_b = 0, inv_inertia_b = 0;
   float friction = 0;
