@@ -202,6 +202,22 @@ TEST(Collide, NormalPointsFromAToBForBothArgumentOrders) {
   }
 }
 
+TEST(Collide, NormalTurnsWithTheBodyWhoseFaceItIs) {
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  const FxShape circle = FxShape::circle(0.25f);
+  // A turned box's corner 1 cm above the top face of a level one: the level box's face is the
+  // reference whichever argument it is.
+  const FxTransform level = at(0.0f, 0.0f),
+                    corner_down = at(0.0f, 0.5f + 0.01f + 0.5f * std::sqrt(2.0f), 0.785398f);
+  EXPECT_EQ(collide_pair(box, level, box, corner_down).normal_frame, NormalFrame::body_a);
+  EXPECT_EQ(collide_pair(box, corner_down, box, level).normal_frame, NormalFrame::body_b);
+  // A circle above a face: the face's; beyond a corner: the normal follows the circle's centre.
+  EXPECT_EQ(collide_pair(box, level, circle, at(0.2f, 0.76f)).normal_frame, NormalFrame::body_a);
+  EXPECT_EQ(collide_pair(circle, at(0.2f, 0.76f), box, level).normal_frame, NormalFrame::body_b);
+  EXPECT_EQ(collide_pair(box, level, circle, at(0.8f, 0.8f), 0.3f).normal_frame, NormalFrame::world);
+  EXPECT_EQ(collide_pair(circle, at(0.0f, 0.0f), circle, at(0.0f, 0.51f)).normal_frame, NormalFrame::world);
+}
+
 TEST(CollidePolygonCircle, CircleInsidePolygonUsesFaceOfLeastPenetration) {
   const FxShape box = FxShape::box(1.0f, 0.5f);
   const FxShape circle = FxShape::circle(0.2f);

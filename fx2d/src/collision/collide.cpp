@@ -165,6 +165,8 @@ void collide_polygon_circle(const FxShape& a, const FxTransform& xf_a, const FxS
   FxVec2f normal = normals[face];
   FxVec2f surface_a = center - face_separation * normal;
   float center_distance = face_separation;
+  // A face's normal turns with the polygon; a vertex's points at the circle's centre, wherever that goes.
+  NormalFrame frame = NormalFrame::body_a;
   if (face_separation > 0.0f) {
     // Outside: the closest point is a vertex when the centre lies beyond either end of the face.
     const bool beyond_v1 = dot(center - v1, v2 - v1) < 0.0f;
@@ -173,11 +175,13 @@ void collide_polygon_circle(const FxShape& a, const FxTransform& xf_a, const FxS
       surface_a = beyond_v1 ? v1 : v2;
       center_distance = distance(surface_a, center);
       normal = (1.0f / center_distance) * (center - surface_a);
+      frame = NormalFrame::world;
     }
   }
   const float separation = center_distance - radius;
   if (!(separation < speculative_distance)) return;
   out.normal = rotate(xf_a.q, normal);
+  out.normal_frame = frame;
   const FxVec2f surface_b = center - radius * normal;
   add_point(out, transform_point(xf_a, lerp(surface_a, surface_b, 0.5f)), separation, circle_feature_id);
 }
@@ -229,6 +233,7 @@ void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& 
                                            face_a.separation - face_b.separation)
                            : normal;
   out.normal = rotate(xf_a.q, reference_is_b ? -contact_normal : contact_normal);
+  out.normal_frame = reference_is_b ? NormalFrame::body_b : NormalFrame::body_a;
 }
 
 void collide(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
@@ -243,6 +248,7 @@ void collide(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const 
     // Points lie midway and separations are symmetric, so only the normal changes sides.
     collide_polygon_circle(b, xf_b, a, xf_a, speculative_distance, out);
     out.normal = -out.normal;
+    if (out.normal_frame == NormalFrame::body_a) out.normal_frame = NormalFrame::body_b;
   } else {
     collide_polygons(a, xf_a, b, xf_b, speculative_distance, out);
   }

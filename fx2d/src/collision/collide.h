@@ -24,8 +24,13 @@ struct ManifoldPoint {
   std::uint32_t id = 0;   // feature id, stable while the same features touch
 };
 
+// Whose face the normal is, and so which body it turns with while the step moves the pair: a
+// polygon's face normal turns with that polygon, two circles' normal with neither.
+enum class NormalFrame : std::uint8_t { world, body_a, body_b };
+
 struct Manifold {
   FxVec2f normal;         // unit, from A towards B
+  NormalFrame normal_frame = NormalFrame::world;
   ManifoldPoint points[2];
   int point_count = 0;    // 0 when the shapes are farther apart than the speculative distance
 };

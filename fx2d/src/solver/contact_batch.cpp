@@ -264,13 +264,34 @@ template <LaneFn LaneSolve, int Count, bool Shared>
   if constexpr (Count == 2) scatter_velocities<Shared>(k[1], states, second);
 }
 
-// Relative pose of the two bodies of every lane since the step began, gathered into columns.
+// Relative pose of the two bodies of every lane since the step began, gathered into columns, and
+// the normal as it has turned since then with the body whose face it is.
 struct LanePoses {
   alignas(32) float dpx[lane_count], dpy[lane_count], aqc[lane_count], aqs[lane_count], bqc[lane_count], bqs[lane_count];
+  alignas(32) float nx[lane_count], ny[lane_count];
 };
 
-// Point `Point` of every lane: its separation at the current poses, from how far each anchor
-// moved and turned since the step began. Whether any lane's point lies deeper than `slop`.
+// Every lane's normal turned as its NormalFrame says: with A, with B, or not at all. The last
+// multiplies by exactly one and zero, so a world-frame normal keeps its bits.
+[[gnu::always_inline]] inline void turn_normals(const ContactBatch& __restrict k, LanePoses& __restrict q) {
+  constexpr auto with_a = static_cast<std::int32_t>(NormalFrame::body_a);
+  constexpr auto with_b = static_cast<std::int32_t>(NormalFrame::body_b);
+  // check-vectorized(2): the lane loop below, once per point count (not unrolled first, like the one
+  // below; every load unconditional, so that the choices are blends)
+#pragma GCC unroll 1
+  for (int lane = 0; lane < lane_count; ++lane) {
+    const std::int32_t frame = k.normal_frame[lane];
+    const float ac = q.aqc[lane], as = q.aqs[lane], bc = q.bqc[lane], bs = q.bqs[lane];
+    const float c = frame == with_a ? ac : (frame == with_b ? bc : 1.0f);
+    const float s = frame == with_a ? as : (frame == with_b ? bs : 0.0f);
+    q.nx[lane] = c * k.normal_x[lane] - s * k.normal_y[lane];
+    q.ny[lane] = s * k.normal_x[lane] + c * k.normal_y[lane];
+  }
+}
+
+// Point `Point` of every lane: its separation at the current poses, the separation at the step's
+// start plus how far the anchors moved apart since then along the turned normal. Whether any
+// lane's point lies deeper than `slop`.
 template <int Point>
 [[gnu::always_inline]] inline bool update_point_separations(ContactBatch& __restrict k, const LanePoses& __restrict q,
                                                             float slop) {
@@ -283,8 +304,12 @@ template <int Point>
     const float rbx = k.point[Point].anchor_bx[lane], rby = k.point[Point].anchor_by[lane];
     const float gap_x = q.dpx[lane] + ((q.bqc[lane] * rbx - q.bqs[lane] * rby) - (q.aqc[lane] * rax - q.aqs[lane] * ray));
     const float gap_y = q.dpy[lane] + ((q.bqs[lane] * rbx + q.bqc[lane] * rby) - (q.aqs[lane] * rax + q.aqc[lane] * ray));
+    // The anchors' offset at the step's start, and the separation then.
+    const float start_x = rbx - rax, start_y = rby - ray;
+    const float start_separation =
+        start_x * k.normal_x[lane] + start_y * k.normal_y[lane] + k.point[Point].adjusted_separation[lane];
     const float separation =
-        gap_x * k.normal_x[lane] + gap_y * k.normal_y[lane] + k.point[Point].adjusted_separation[lane];
+        (gap_x - start_x) * q.nx[lane] + (gap_y - start_y) * q.ny[lane] + start_separation;
     k.point[Point].separation[lane] = separation;
     deep |= separation < -slop;
   }
@@ -302,6 +327,7 @@ template <int Points>
   LanePoses q;
   to_lanes(b.c0 - a.c0, q.dpx), to_lanes(b.c1 - a.c1, q.dpy);
   to_lanes(a.c2, q.aqc), to_lanes(a.c3, q.aqs), to_lanes(b.c2, q.bqc), to_lanes(b.c3, q.bqs);
+  turn_normals(k, q);
   bool deep = update_point_separations<0>(k, q, slop);
   if constexpr (Points == 2) deep |= update_point_separations<1>(k, q, slop);
   return deep;

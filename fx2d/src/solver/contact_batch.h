@@ -30,6 +30,7 @@
 #include <span>
 #include <vector>
 
+#include "collision/collide.h"
 #include "solver/contact_graph.h"
 #include "solver/contact_solver.h"
 #include "solver/lane_rows.h"
@@ -98,6 +99,9 @@ struct alignas(32) ContactBatch {
   // speed per unit impulse on the first (solve_lane).
   float normal1_from_normal0[lane_count];
   float tangent1_from_tangent0[lane_count];
+  // The body the normal turns with when the separations are updated: a NormalFrame, as an int so
+  // that the lane loop compares it in vector registers.
+  std::int32_t normal_frame[lane_count];
   // Per manifold point, each point's columns together: a one-point batch never touches the
   // second point's, so its passes read half the cache lines.
   PointColumns point[2];

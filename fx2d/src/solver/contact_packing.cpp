@@ -39,6 +39,7 @@ void build_lane(ContactBatch& k, int lane, const ConstraintSource& source, const
   k.body_b[lane] = source.body_b;
   k.normal_x[lane] = normal.x;
   k.normal_y[lane] = normal.y;
+  k.normal_frame[lane] = static_cast<std::int32_t>(contact.manifold.normal_frame);
   k.inv_mass_a[lane] = sim_a.inv_mass;
   k.inv_mass_b[lane] = sim_b.inv_mass;
   k.inv_inertia_a[lane] = sim_a.inv_inertia;
