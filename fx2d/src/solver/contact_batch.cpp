@@ -304,12 +304,14 @@ template <int Point>
     const float rbx = k.point[Point].anchor_bx[lane], rby = k.point[Point].anchor_by[lane];
     const float gap_x = q.dpx[lane] + ((q.bqc[lane] * rbx - q.bqs[lane] * rby) - (q.aqc[lane] * rax - q.aqs[lane] * ray));
     const float gap_y = q.dpy[lane] + ((q.bqs[lane] * rbx + q.bqc[lane] * rby) - (q.aqs[lane] * rax + q.aqc[lane] * ray));
-    // The anchors' offset at the step's start, and the separation then.
+    // The separation at the step's start plus the anchors' motion since along the turned normal:
+    // start . n + adjusted + (gap - start) . n', written as gap . n' + adjusted + start . (n - n'),
+    // so that a normal that did not turn (n' = n: two circles, a static body's face) gives the bits
+    // of the fixed normal.
     const float start_x = rbx - rax, start_y = rby - ray;
-    const float start_separation =
-        start_x * k.normal_x[lane] + start_y * k.normal_y[lane] + k.point[Point].adjusted_separation[lane];
-    const float separation =
-        (gap_x - start_x) * q.nx[lane] + (gap_y - start_y) * q.ny[lane] + start_separation;
+    const float turn_x = k.normal_x[lane] - q.nx[lane], turn_y = k.normal_y[lane] - q.ny[lane];
+    const float separation = gap_x * q.nx[lane] + gap_y * q.ny[lane] + k.point[Point].adjusted_separation[lane] +
+                             (start_x * turn_x + start_y * turn_y);
     k.point[Point].separation[lane] = separation;
     deep |= separation < -slop;
   }
