@@ -397,8 +397,8 @@ TEST_F(PluginCommands, AnOdeKnobOutOfRangeFromSetIsRefusedInOneLine) {
 
 // ode.threads 2 steps the world on ODE's own pool of two threads: the pile stays whole and
 // overlaps about as much as on one thread. Not bit for bit: every run on two threads ends in a
-// different state (scenes/README.md); five runs gave a worst penetration of 92 to 112 mm against
-// one thread's 99, so a quarter of one thread's is the margin.
+// different state (scenes/README.md); eleven runs gave a worst penetration of 92 to 112 mm
+// against one thread's 99, so a quarter of one thread's is the margin.
 TEST_F(PluginCommands, OdeOnTwoThreadsKeepsThePileAsOnOne) {
   const double one = pile_penetration("ode", "auto_disable", "1");
   EXPECT_NEAR(pile_penetration("ode", "auto_disable", "2"), one, 0.25 * one)
