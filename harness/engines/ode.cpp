@@ -52,7 +52,7 @@
 namespace fxbench {
 namespace {
 
-enum Knob { iterations, erp, cfm, auto_disable, knob_count };
+enum Knob { iterations, erp, cfm, auto_disable, threads, knob_count };
 
 // CFM's bound: contacts are springs of stiffness ERP / (dt CFM), and at CFM 1 (ERP 0.2, 60 Hz)
 // that is 12 N/m, under which a 1 kg box sinks 0.8 m into the ground; anything softer is no solid.
@@ -62,6 +62,8 @@ constexpr Fx2dBenchKnob knobs[knob_count] = {
      "error reduction parameter: share of joint error fixed per step"},
     {"cfm", FX2D_BENCH_KNOB_NUMBER, 0, 1, 1e-5, "constraint force mixing: softness of every constraint"},
     {"auto_disable", FX2D_BENCH_KNOB_BOOLEAN, 0, 1, 1, "let resting bodies sleep (ODE's auto-disable)"},
+    {"threads", FX2D_BENCH_KNOB_INTEGER, 1, 8, 1,
+     "threads stepping the world (ODE's thread pool); above 1 not deterministic"},
 };
 
 // At most 65,536 bodies: the hash space's n x n bit table is 512 MiB at this size, cleared every
@@ -103,6 +105,39 @@ Fx2dBenchVec2 world_point(const Fx2dBenchBody& body, Fx2dBenchVec2 local) {
   return {body.position.x + (c * local.x - s * local.y), body.position.y + (s * local.x + c * local.y)};
 }
 
+// More than one thread: ODE's built-in multi-threaded implementation, served by a pool of that
+// many threads started with the world and stopped after it, so no step starts a thread. The world
+// steps its islands on the pool, and each island's QuickStep stages over its threads, while the
+// calling thread waits. One thread makes nothing: the world keeps ODE's default self-threaded
+// implementation, the same code and bits as before the knob.
+class StepThreads {
+ public:
+  explicit StepThreads(int threads) {
+    if (threads == 1) return;
+    implementation_.reset(dThreadingAllocateMultiThreadedImplementation());
+    pool_.reset(
+        dThreadingAllocateThreadPool(static_cast<unsigned>(threads), 0, dAllocateFlagBasicData, nullptr));
+    if (!implementation_ || !pool_) throw std::runtime_error("ODE could not start a pool of threads");
+    dThreadingThreadPoolServeMultiThreadedImplementation(pool_.get(), implementation_.get());
+  }
+  // Releases the pool's threads; freeing the pool then waits for them, and the implementation goes last.
+  ~StepThreads() {
+    if (pool_) dThreadingImplementationShutdownProcessing(implementation_.get());
+  }
+  StepThreads(const StepThreads&) = delete;
+  StepThreads& operator=(const StepThreads&) = delete;
+
+  void step_with(dWorldID world) const {
+    if (implementation_)
+      dWorldSetStepThreadingImplementation(world, dThreadingImplementationGetFunctions(implementation_.get()),
+                                           implementation_.get());
+  }
+
+ private:
+  fx2d_bench::Owned<dxThreadingImplementation, dThreadingFreeImplementation> implementation_;
+  fx2d_bench::Owned<dxThreadingThreadPool, dThreadingFreeThreadPool> pool_;
+};
+
 struct BodyRecord {
   dBodyID body = nullptr;  // null for a static body, which is a geom alone
   dGeomID geom = nullptr;
@@ -114,8 +149,12 @@ bool is_dynamic(dBodyID body) { return body != nullptr && dBodyIsKinematic(body)
 
 class OdeWorld {
  public:
-  explicit OdeWorld(const Fx2dBenchScene& scene) : bodies_(body_count_for_ode(scene)), dt_(scene.dt) {
+  explicit OdeWorld(const Fx2dBenchScene& scene)
+      : bodies_(body_count_for_ode(scene)),
+        threads_(static_cast<int>(scene.settings[threads])),
+        dt_(scene.dt) {
     const double* knob = scene.settings;
+    threads_.step_with(world_.get());
     dWorldSetGravity(world_.get(), scene.gravity.x, scene.gravity.y, 0.0);
     dWorldSetQuickStepNumIterations(world_.get(), static_cast<int>(knob[iterations]));
     dWorldSetERP(world_.get(), knob[erp]);
@@ -319,7 +358,9 @@ class OdeWorld {
 
   std::vector<BodyRecord> bodies_;  // first: its size is checked before ODE is touched
   // Freed in reverse order, also when building failed part way: the contact group, then the space
-  // with its geoms, then the world with its bodies and joints.
+  // with its geoms, then the world with its bodies and joints, then the threads, which the world
+  // still calls as it is destroyed (it frees a wait of theirs: ODE 0.16 threading_base.cpp).
+  StepThreads threads_;
   fx2d_bench::Owned<dxWorld, dWorldDestroy> world_{dWorldCreate()};
   fx2d_bench::Owned<dxSpace, dSpaceDestroy> space_{dHashSpaceCreate(nullptr)};
   fx2d_bench::Owned<dxJointGroup, dJointGroupDestroy> contact_group_{dJointGroupCreate(0)};

@@ -273,6 +273,36 @@ TEST(OdeAdapter, TumblingBodiesStayExactlyInThePlane) {
   EXPECT_EQ(drift.rotation_off_z, 0.0);
 }
 
+// ODE's random generator is one per process, and QuickStep's islands draw from it on whichever
+// thread steps them. A one-thread world stepped in turn with a world on ODE's pool of two
+// (ode.threads 2), alive beside it, ends bit for bit where it ends stepped alone.
+TEST(OdeAdapter, AWorldOnTwoThreadsLeavesAOneThreadWorldBesideItAsIfAlone) {
+  std::vector<BodySpec> bodies{ground()};
+  for (int i = 0; i < 30; ++i) bodies.push_back(box_at({1.1 * (i % 10) - 5.0, 0.5 + 1.1 * (i / 10)}));
+  const SceneSpec scene = scene_of(bodies);
+  SceneSpec on_two_threads = scene;
+  on_two_threads.resolved_json = R"({"solver": {"ode": {"threads": 2}}})";
+  constexpr int steps = 60;
+  const std::vector<BodyState> alone = run(*make_ode_engine(), scene, steps);
+
+  auto one_thread = make_ode_engine();
+  auto two_threads = make_ode_engine();
+  one_thread->build(scene);
+  two_threads->build(on_two_threads);
+  for (int i = 0; i < steps; ++i) {
+    two_threads->step();
+    one_thread->step();
+  }
+  std::vector<BodyState> beside;
+  one_thread->read_state(beside);
+  ASSERT_EQ(beside.size(), alone.size());
+  for (std::size_t i = 0; i < alone.size(); ++i) {
+    EXPECT_EQ(beside[i].position.x, alone[i].position.x) << "body " << i;
+    EXPECT_EQ(beside[i].position.y, alone[i].position.y) << "body " << i;
+    EXPECT_EQ(beside[i].angle, alone[i].angle) << "body " << i;
+  }
+}
+
 TEST(OdeAdapter, DriftQueryRejectsAnotherEngine) {
   const auto box2d = make_box2d_engine();
   EXPECT_THROW(ode_out_of_plane_drift(*box2d), std::invalid_argument);
