@@ -34,17 +34,15 @@ std::vector<Evaluation> search_piece(const StabilityTest& test, SearchSpec& sear
   const std::vector<int> owner = assign_parts(costs, pieces);
   for (std::size_t p = 0; p < predicted_probes.size(); ++p)
     if (owner[p] == piece) record(predicted_probes[p], probes.evaluate(predicted_probes[p]));
-  // The search again, the other pieces' probes taken as predicted, until a verdict of this piece
-  // contradicts its prediction: from there the true search is this piece's alone.
-  bool alone = false;
+  // The search again, the other pieces' probes taken as predicted. Where a verdict of this piece
+  // contradicts its prediction, the true search leaves the predicted one: it bisects below that
+  // probe where the predicted search went on beyond it, or the other way round, so every probe
+  // from there on is new, and evaluated here (a probe of another piece never comes again; if it
+  // did, the replay would refuse).
   SearchSpec again = as_given;
   find_engine_boundary(test, again, capabilities, [&](double parameter) {
-    if (const auto known = exact.find(parameter); known != exact.end()) {
-      alone = alone || known->second.pass != predicted.at(parameter);
-      return known->second;
-    }
-    if (const auto prediction = predicted.find(parameter); !alone && prediction != predicted.end())
-      return verdict_of(prediction->second);
+    if (const auto known = exact.find(parameter); known != exact.end()) return known->second;
+    if (const auto prediction = predicted.find(parameter); prediction != predicted.end()) return verdict_of(prediction->second);
     return record(parameter, probes.evaluate(parameter));
   });
   return found;

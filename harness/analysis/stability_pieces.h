@@ -10,8 +10,9 @@
 // to the pieces by their predicted cost (a failure that settles early is cheap, a pass runs to the
 // end), and each piece evaluates its own, once, in one process only. The piece then walks the
 // search again over its exact verdicts and the others' predictions; where one of its own verdicts
-// contradicts the prediction, the true search leaves the predicted one there, and this piece
-// follows it alone, evaluating every later probe it does not know exactly. So whatever the
+// contradicts the prediction, the true search leaves the predicted one there for probes the
+// predicted search never made (it brackets or bisects on the other side of that probe), and this
+// piece follows it alone, evaluating each. So whatever the
 // verdicts, the probes of the true search are all in some piece: up to the first wrong prediction
 // on it each is a probe of the predicted search, which its owner evaluated, and from that probe on
 // its owner went on alone. A stale prediction costs balance (one piece finishes the search),
