@@ -75,40 +75,18 @@ constexpr PairCost measured[] = {
 
 constexpr double unmeasured_seconds = 1.0;
 
-// Probes of pyramid on ODE, the search the suite spreads, each timed whole: user CPU seconds, the
-// median of three unsharded searches (`stability --test pyramid --engine ode`, each evaluation
-// timed with std::clock; 2026-11-26, load average 6 to 8, which inflates ODE's times about 1.5x
-// over the pair's 29.5 s above). ODE's time is not bodies to one power: 54 and 55 differ by 17%
-// for 4% more bodies, 52 costs no more than 48. Dealt by the model below, the two pieces of this
-// search held 0.53 and 0.47 of these seconds; dealt by them, 0.50 each.
-struct ProbeCost {
-  std::string_view test;
-  std::string_view engine;
-  double parameter;
-  double seconds;
-};
-
-constexpr ProbeCost measured_probes[] = {
-    {"pyramid", "ode", 4.0, 0.019},  {"pyramid", "ode", 8.0, 0.018},   {"pyramid", "ode", 16.0, 0.406},
-    {"pyramid", "ode", 32.0, 2.226}, {"pyramid", "ode", 48.0, 7.757},  {"pyramid", "ode", 52.0, 7.181},
-    {"pyramid", "ode", 54.0, 10.252}, {"pyramid", "ode", 55.0, 11.982}, {"pyramid", "ode", 56.0, 1.262},
-    {"pyramid", "ode", 64.0, 2.7},
-};
-
-// A probe not in measured_probes costs seconds_per_unit x bodies^power x steps: ODE's time per
-// step grows faster than its bodies, Box2D's a little, Chipmunk2D's as they do, Fx2D's by 1.3.
-// Fitted to the same timings of pyramid's probes on each engine, from base 32 (528 bodies) to the
-// last pass (55 on ODE and Box2D, 47 on Chipmunk2D; Fx2D's 128, 8256 bodies), the seconds per unit
-// from the last pass. An engine not listed is taken as linear.
-struct CostModel {
+// How a probe's cost grows with its bodies, per engine: cost ~ bodies^power. Fitted to the user
+// CPU time of pyramid's probes, each whole (fx2d-bench stability --test pyramid --engine E, one
+// probe timed at a time; 2026-11-26, load 3 to 5), from base 32 (528 bodies) to 55 (1540), and
+// for Fx2D, which holds to 128, to 8256 bodies: ODE's time per step grows faster than its bodies
+// (1.4), Box2D's a little (1.1), Chipmunk2D's as they do, Fx2D's by 1.3. An engine not listed
+// is taken as linear.
+struct BodyPower {
   std::string_view engine;
   double power;
-  double seconds_per_unit;
 };
 
-constexpr CostModel cost_models[] = {
-    {"fx2d", 1.3, 2.29e-8}, {"box2d", 1.1, 1.27e-6}, {"ode", 1.4, 1.38e-6}, {"chipmunk", 1.0, 1.64e-6}};
-constexpr CostModel unlisted_engine_model{"", 1.0, 1e-6};
+constexpr BodyPower body_powers[] = {{"fx2d", 1.3}, {"box2d", 1.1}, {"ode", 1.4}, {"chipmunk", 1.0}};
 
 // A failure that settles stops early: pyramid's failures on ODE and Box2D settle at step 30 of
 // 300 and cost 0.07 to 0.15 of a pass of the same size.
@@ -117,13 +95,6 @@ constexpr double early_stop_share = 0.1;
 const PairCost* measured_pair(const std::string& test, const std::string& engine) {
   const auto found = std::ranges::find_if(measured, [&](const PairCost& pair) { return pair.test == test && pair.engine == engine; });
   return found == std::end(measured) ? nullptr : found;
-}
-
-const ProbeCost* measured_probe(const std::string& test, const std::string& engine, double parameter) {
-  const auto found = std::ranges::find_if(measured_probes, [&](const ProbeCost& probe) {
-    return probe.test == test && probe.engine == engine && probe.parameter == parameter;
-  });
-  return found == std::end(measured_probes) ? nullptr : found;
 }
 
 }  // namespace
@@ -138,17 +109,10 @@ std::optional<double> stability_last_pass(const std::string& test, const std::st
   return pair == nullptr ? std::nullopt : pair->last_pass;
 }
 
-double stability_probe_cost(const std::string& test, const std::string& engine, double parameter, const SceneSpec& scene,
-                            bool stops_early) {
-  if (const ProbeCost* probe = measured_probe(test, engine, parameter)) return probe->seconds;
-  const auto listed = std::ranges::find_if(cost_models, [&](const CostModel& model) { return model.engine == engine; });
-  const CostModel& model = listed == std::end(cost_models) ? unlisted_engine_model : *listed;
-  return model.seconds_per_unit * std::pow(static_cast<double>(scene.bodies.size()), model.power) * scene.steps *
-         (stops_early ? early_stop_share : 1.0);
-}
-
-bool stability_probe_measured(const std::string& test, const std::string& engine, double parameter) {
-  return measured_probe(test, engine, parameter) != nullptr;
+double stability_probe_cost(const SceneSpec& scene, const std::string& engine, bool stops_early) {
+  const auto found = std::ranges::find_if(body_powers, [&](const BodyPower& body) { return body.engine == engine; });
+  const double power = found == std::end(body_powers) ? 1.0 : found->power;
+  return std::pow(static_cast<double>(scene.bodies.size()), power) * scene.steps * (stops_early ? early_stop_share : 1.0);
 }
 
 bool stability_cost_measured(const std::string& test, const std::string& engine) {

@@ -20,16 +20,10 @@ double stability_cost(const std::string& test, const std::string& engine);
 // the pair is not in the table.
 std::optional<double> stability_last_pass(const std::string& test, const std::string& engine);
 
-// User CPU seconds evaluating `parameter` of `test` on `engine` (whose scene is `scene`) is
-// predicted to take: its measured time when the table holds the probe, else a model measured per
-// engine, bodies to a power times steps, a tenth of that when the run `stops_early` (a failure
-// that settles). How a spread search deals its probes.
-double stability_probe_cost(const std::string& test, const std::string& engine, double parameter, const SceneSpec& scene,
-                            bool stops_early);
-
-// Whether the table holds a measurement of the probe (stability_pieces_test checks that it does
-// for every probe of the search the suite spreads).
-bool stability_probe_measured(const std::string& test, const std::string& engine, double parameter);
+// What simulating `scene` on `engine` costs, in units comparable only within one engine: bodies
+// to the engine's measured power, times steps, a tenth of that when the run `stops_early` (a
+// failure that settles). How a spread search deals its probes.
+double stability_probe_cost(const SceneSpec& scene, const std::string& engine, bool stops_early);
 
 // Whether the table holds a measurement of the pair (shard_test checks that it does for every
 // test of the suite on every engine of the registry).

@@ -93,8 +93,7 @@ class PairProbes {
   // stability_probe_cost of the probe's scene; nothing when the engine cannot build it.
   double cost(double parameter, bool passes) {
     const auto [scene, refusal] = scene_of(parameter);
-    return refusal ? 0.0
-                   : stability_probe_cost(test_.name, engine_.name, parameter, *scene, !passes && test_.settled_failure != nullptr);
+    return refusal ? 0.0 : stability_probe_cost(*scene, engine_.name, !passes && test_.settled_failure != nullptr);
   }
 
  private:

@@ -7,7 +7,6 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -15,7 +14,6 @@
 #include <string>
 #include <vector>
 
-#include "analysis/stability_costs.h"
 #include "common/errors.h"
 
 namespace fxbench {
@@ -114,36 +112,6 @@ TEST(SpreadSearch, PredictionRightTwoPiecesCostAlike) {
         piece_cost[piece] += cost_of(evaluation.parameter, evaluation.verdict.pass);
     EXPECT_LT(std::abs(piece_cost[0] - piece_cost[1]), 0.03 * (piece_cost[0] + piece_cost[1])) << "boundary " << boundary;
   }
-}
-
-// Pyramid on ODE, the search the full suite spreads over two shards, as the cost table predicts it
-// (its last pass, its probes' measured seconds): the two pieces' predicted seconds are within 2% of
-// each other, and every probe of the predicted search is in the table.
-TEST(SpreadSearch, PyramidOnOdeTwoPiecesCostAlikeByTheTable) {
-  const auto pyramid = std::ranges::find_if(stability_suite(), [](const StabilityTest& test) { return test.name == "pyramid"; });
-  ASSERT_NE(pyramid, stability_suite().end());
-  const std::optional<double> last_pass = stability_last_pass("pyramid", "ode");
-  ASSERT_TRUE(last_pass.has_value());
-  const auto passes = [&](double base) { return !is_harder(pyramid->search, base, *last_pass); };
-  // A scene of the probe's size (the ground and the pyramid's boxes): what the model would use.
-  const auto seconds = [&](double base, bool pass) {
-    SceneSpec scene;
-    scene.steps = 300;
-    scene.bodies.resize(1 + static_cast<std::size_t>(base * (base + 1) / 2));
-    return stability_probe_cost("pyramid", "ode", base, scene, !pass);
-  };
-  const Truth truth{passes, passes};
-  double piece_seconds[2] = {0.0, 0.0};
-  for (int piece = 0; piece < 2; ++piece) {
-    SearchSpec search = pyramid->search;
-    const ProbeSource source{passes, [&](double base) { return verdict_of(truth, base); }, seconds};
-    for (const Evaluation& evaluation : search_piece(*pyramid, search, EngineCapabilities{}, piece, 2, source)) {
-      EXPECT_TRUE(stability_probe_measured("pyramid", "ode", evaluation.parameter)) << evaluation.parameter;
-      piece_seconds[piece] += seconds(evaluation.parameter, evaluation.verdict.pass);
-    }
-  }
-  EXPECT_LT(std::abs(piece_seconds[0] - piece_seconds[1]), 0.02 * (piece_seconds[0] + piece_seconds[1]))
-      << piece_seconds[0] << " s against " << piece_seconds[1] << " s";
 }
 
 TEST(SpreadSearch, WrongPredictionsEitherWayStillGiveTheSearch) {
