@@ -10,6 +10,20 @@
 namespace fxbench {
 std::vector<Evaluation> search_piece(const StabilityTest& test, SearchSpec& search, const EngineCapabilities& capabilities,
                                      int piece, int pieces, const ProbeSource& probes) {
+  const auto verdict_of = [](bool passes) { return passes ? Verdict{} : Verdict{false, "predicted", "", std::nullopt}; };
+  // The walk on predictions.
+  std::vector<double> predicted_probes;
+  std::vector<double> costs;
+  std::map<double, bool> predicted;
+  const SearchSpec as_given = search;
+  find_engine_boundary(test, search, capabilities, [&](double parameter) {
+    const bool passes = probes.predict(parameter);
+    predicted_probes.push_back(parameter);
+    costs.push_back(probes.cost(parameter, passes));
+    predicted.emplace(parameter, passes);
+    return verdict_of(passes);
+  });
+  // This piece's probes, dealt by cost with the rule that deals work to shards, evaluated.
   std::vector<Evaluation> found;
   std::map<double, Verdict> exact;
   const auto record = [&](double parameter, const Verdict& verdict) {
@@ -17,33 +31,18 @@ std::vector<Evaluation> search_piece(const StabilityTest& test, SearchSpec& sear
     exact.emplace(parameter, verdict);
     return verdict;
   };
-  // The walk on foresight.
-  std::vector<double> predicted_passes;
-  const SearchSpec as_given = search;
-  find_engine_boundary(test, search, capabilities, [&](double parameter) {
-    if (const std::optional<Verdict> settled = probes.foresee(parameter)) return record(parameter, *settled);
-    predicted_passes.push_back(parameter);
-    return Verdict{};
-  });
-  // This piece's passes, run to the end: dealt by cost with the rule that deals work to shards.
-  std::vector<double> costs;
-  for (const double parameter : predicted_passes) costs.push_back(probes.cost(parameter));
   const std::vector<int> owner = assign_parts(costs, pieces);
-  std::vector<double> others;
-  for (std::size_t p = 0; p < predicted_passes.size(); ++p) {
-    if (owner[p] == piece)
-      record(predicted_passes[p], probes.evaluate(predicted_passes[p]));
-    else
-      others.push_back(predicted_passes[p]);
-  }
-  // The search again, the other pieces' passes taken on trust. Where a pass of this piece failed
-  // after all, the true search leaves the predicted one: it bisects between the last pass and that
-  // probe, where the predicted search went on beyond it, so every probe from there on is new, and
-  // evaluated here (a probe of another piece never comes again; if it did, the replay would refuse).
+  for (std::size_t p = 0; p < predicted_probes.size(); ++p)
+    if (owner[p] == piece) record(predicted_probes[p], probes.evaluate(predicted_probes[p]));
+  // The search again, the other pieces' probes taken as predicted. Where a verdict of this piece
+  // contradicts its prediction, the true search leaves the predicted one: it bisects below that
+  // probe where the predicted search went on beyond it, or the other way round, so every probe
+  // from there on is new, and evaluated here (a probe of another piece never comes again; if it
+  // did, the replay would refuse).
   SearchSpec again = as_given;
   find_engine_boundary(test, again, capabilities, [&](double parameter) {
     if (const auto known = exact.find(parameter); known != exact.end()) return known->second;
-    if (std::ranges::find(others, parameter) != others.end()) return Verdict{};
+    if (const auto prediction = predicted.find(parameter); prediction != predicted.end()) return verdict_of(prediction->second);
     return record(parameter, probes.evaluate(parameter));
   });
   return found;

@@ -4,40 +4,41 @@
 // unsharded command runs.
 //
 // The search itself (find_boundary) is unchanged; only who evaluates which probe is. Each piece
-// first walks the search on foresight: every probe simulated for its first tenth of the steps,
-// which for a test with a settled_failure gives a failure exactly (the whole run would stop at the
-// same sample with the same verdict) and otherwise predicts a pass. The predicted passes, the
-// costly probes (a pass runs to the end), are dealt to the pieces by cost; each piece runs its own
-// to the end. A piece whose own probe fails after all (a late failure) then follows the true
-// search beyond it, evaluating every later probe itself. So whatever the verdicts, the probes of
-// the true search are all in some piece: up to the first wrong prediction each is a foreseen
-// failure or a pass its owner proved, and after it the owner of that probe went on alone.
+// first walks the search on predictions, which cost nothing: the boundary the pair's search found
+// when it was last measured (analysis/stability_costs.h), every value no harder than its last pass
+// predicted to pass and every harder one to fail. The probes of that predicted search are dealt
+// to the pieces by their predicted cost (a failure that settles early is cheap, a pass runs to the
+// end), and each piece evaluates its own, once, in one process only. The piece then walks the
+// search again over its exact verdicts and the others' predictions; where one of its own verdicts
+// contradicts the prediction, the true search leaves the predicted one there for probes the
+// predicted search never made (it brackets or bisects on the other side of that probe), and this
+// piece follows it alone, evaluating each. So whatever the
+// verdicts, the probes of the true search are all in some piece: up to the first wrong prediction
+// on it each is a probe of the predicted search, which its owner evaluated, and from that probe on
+// its owner went on alone. A stale prediction costs balance (one piece finishes the search),
+// never correctness.
 //
 // Invariant: replay_search over the union of the pieces' verdicts returns exactly the result
-// find_boundary gives with the whole evaluations, for any number of pieces.
+// find_boundary gives with the whole evaluations, for any number of pieces and any predictions.
 #pragma once
 
 #include <functional>
 #include <map>
-#include <optional>
 #include <vector>
 
 #include "analysis/stability_tests.h"
 
 namespace fxbench {
 
-// The share of a probe's steps its foresight simulates.
-inline constexpr double foresight_fraction = 0.1;
-
 // How a piece gets its verdicts, all for one engine and test.
 struct ProbeSource {
-  // The exact verdict of `parameter` when foresight settles it (a settled failure, or a scene
-  // the engine cannot build), else none: a predicted pass.
-  std::function<std::optional<Verdict>(double)> foresee;
-  // The exact verdict, from the whole run (going on from foresight's where it can).
+  // Whether `parameter` is predicted to pass.
+  std::function<bool(double)> predict;
+  // The exact verdict.
   std::function<Verdict(double)> evaluate;
-  // What evaluating `parameter` to the end costs, in any unit: how the passes are dealt.
-  std::function<double(double)> cost;
+  // What evaluating `parameter` is predicted to cost, in any unit, when it passes (`passes`) or
+  // fails: how the probes are dealt.
+  std::function<double(double parameter, bool passes)> cost;
 };
 
 // The exact verdicts piece `piece` (0-based) of `pieces` finds, in the order found. `search` is

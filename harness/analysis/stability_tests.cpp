@@ -16,13 +16,14 @@
 #include "scene/scene_loader.h"
 
 namespace fxbench {
-namespace {
-
-// ---- the search ----
 
 bool is_harder(const SearchSpec& spec, double a, double b) {
   return spec.harder == Harder::increasing ? a > b : a < b;
 }
+
+namespace {
+
+// ---- the search ----
 
 // The next bracket probe: twice as hard, never past the limit.
 double next_probe(const SearchSpec& spec, double value) {
@@ -417,32 +418,23 @@ SceneSpec load_test_scene(const StabilityTest& test, const std::string& suite_di
   return load_scene_file((std::filesystem::path(suite_dir) / (test.name + ".json")).string(), overrides);
 }
 
-Simulation::Simulation(SceneSpec scene, const EngineInfo& engine, int sample_every, SettledFailure settled_failure)
-    : scene_(std::move(scene)), instance_(engine.make()), sample_every_(sample_every), settled_failure_(std::move(settled_failure)) {
-  instance_->build(scene_);
-  sample();
-}
-
-void Simulation::sample() {
-  trajectory_.times.push_back(step_ * scene_.dt);
-  trajectory_.states.emplace_back();
-  instance_->read_state(trajectory_.states.back());
-}
-
-void Simulation::run_to(int last_step) {
-  while (!stopped() && step_ < last_step) {
-    instance_->step();
-    ++step_;
-    if (step_ % sample_every_ != 0 && step_ != scene_.steps) continue;
-    sample();
-    settled_ = settled_failure_ && settled_failure_(scene_, trajectory_);
-  }
-}
-
 Trajectory simulate(const SceneSpec& scene, const EngineInfo& engine, int sample_every, const SettledFailure& settled_failure) {
-  Simulation simulation(scene, engine, sample_every, settled_failure);
-  simulation.run_to(scene.steps);
-  return simulation.trajectory();
+  const std::unique_ptr<Engine> instance = engine.make();
+  instance->build(scene);
+  Trajectory trajectory;
+  const auto sample = [&](int step) {
+    trajectory.times.push_back(step * scene.dt);
+    trajectory.states.emplace_back();
+    instance->read_state(trajectory.states.back());
+  };
+  sample(0);
+  for (int step = 1; step <= scene.steps; ++step) {
+    instance->step();
+    if (step % sample_every != 0 && step != scene.steps) continue;
+    sample(step);
+    if (settled_failure && settled_failure(scene, trajectory)) break;
+  }
+  return trajectory;
 }
 
 std::span<const StabilityTest> stability_suite() {

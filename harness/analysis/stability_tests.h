@@ -13,7 +13,6 @@
 #pragma once
 
 #include <functional>
-#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -38,6 +37,9 @@ struct SearchSpec {
   Scale scale = Scale::linear;
   bool integer = false;     // only whole values are tried
 };
+
+// Whether `a` is a harder value of the parameter than `b`.
+bool is_harder(const SearchSpec& spec, double a, double b);
 
 struct Verdict {
   bool pass = true;
@@ -151,36 +153,9 @@ std::span<const StabilityTest> stability_suite();
 SceneSpec load_test_scene(const StabilityTest& test, const std::string& suite_dir,
                           const std::vector<std::pair<std::string, std::string>>& user_sets, double parameter);
 
-// `scene` built into a fresh instance of `engine` and stepped, untimed, in as many goes as asked,
-// sampling poses at the start, every `sample_every` steps and after the scene's last step; it stops
-// for good at the first sample at which `settled_failure` (when given) holds. However it is cut
-// into goes, the trajectory is the same.
-class Simulation {
- public:
-  Simulation(SceneSpec scene, const EngineInfo& engine, int sample_every, SettledFailure settled_failure = {});
-  Simulation(const Simulation&) = delete;  // the engine may keep pointers into scene_
-  Simulation& operator=(const Simulation&) = delete;
-
-  // Steps on up to `last_step` (at most the scene's steps), unless it has stopped.
-  void run_to(int last_step);
-  bool stopped() const { return settled_ || step_ == scene_.steps; }
-  bool settled() const { return settled_; }  // stopped at a settled failure
-  const SceneSpec& scene() const { return scene_; }
-  const Trajectory& trajectory() const { return trajectory_; }
-
- private:
-  void sample();
-
-  SceneSpec scene_;
-  std::unique_ptr<Engine> instance_;
-  int sample_every_;
-  SettledFailure settled_failure_;
-  Trajectory trajectory_;
-  int step_ = 0;
-  bool settled_ = false;
-};
-
-// A Simulation run through scene.steps in one go.
+// Builds `scene` into a fresh instance of `engine` and steps it through scene.steps, untimed,
+// sampling poses at the start, every `sample_every` steps and after the last step; or up to the
+// first sample at which `settled_failure` (when given) holds.
 Trajectory simulate(const SceneSpec& scene, const EngineInfo& engine, int sample_every, const SettledFailure& settled_failure = {});
 
 // ---- One engine x test, searched ----

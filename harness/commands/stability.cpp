@@ -11,7 +11,6 @@
 // machine's load.
 #include <unistd.h>
 
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -50,7 +49,7 @@ struct StabilityOptions {
 struct WorkList {
   std::vector<EngineTest> pairs;
   std::vector<double> costs;
-  std::vector<bool> spreadable;  // whose probes foresight can settle: analysis/stability_pieces.h
+  std::vector<bool> spreadable;  // whose boundary is predicted (stability_costs.h): analysis/stability_pieces.h
   std::string identity;  // work_list_identity of the settings and every pair's key
 };
 
@@ -78,52 +77,29 @@ void show_progress(const EngineInfo& engine, const StabilityTest& test, double p
 }
 
 // The probes of one engine x test: each parameter's scene loaded with the user's --set, the
-// engine's settings noted from the first, and the simulations foresight began kept until they are
-// run on.
+// engine's settings noted from the first.
 class PairProbes {
  public:
   PairProbes(const StabilityOptions& options, const EngineInfo& engine, const StabilityTest& test, std::string& settings)
       : options_(options), engine_(engine), test_(test), settings_(settings), sets_(user_sets(options.sets)) {}
 
-  // The exact verdict when the probe's first foresight_fraction of steps settles it.
-  std::optional<Verdict> foresee(double parameter) {
-    const auto [scene, refusal] = scene_of(parameter);
-    if (refusal) return refusal;
-    auto simulation = std::make_unique<Simulation>(*scene, engine_, test_.sample_every, test_.settled_failure);
-    simulation->run_to(static_cast<int>(std::ceil(foresight_fraction * scene->steps)));
-    if (simulation->settled()) return test_.judge(simulation->scene(), simulation->trajectory());
-    begun_[parameter] = std::move(simulation);
-    return std::nullopt;
-  }
-
   Verdict evaluate(double parameter) {
-    if (const auto begun = begun_.find(parameter); begun != begun_.end()) {
-      const std::unique_ptr<Simulation> simulation = std::move(begun->second);
-      begun_.erase(begun);
-      return judged(*simulation);
-    }
+    show_progress(engine_, test_, parameter);
     const auto [scene, refusal] = scene_of(parameter);
     if (refusal) return *refusal;
-    Simulation simulation(*scene, engine_, test_.sample_every, test_.settled_failure);
-    return judged(simulation);
+    return test_.judge(*scene, simulate(*scene, engine_, test_.sample_every, test_.settled_failure));
   }
 
-  // Bodies x steps of a probe foresight began.
-  double cost(double parameter) const {
-    const SceneSpec& scene = begun_.at(parameter)->scene();
-    return static_cast<double>(scene.bodies.size()) * scene.steps;
+  // stability_probe_cost of the probe's scene; nothing when the engine cannot build it.
+  double cost(double parameter, bool passes) {
+    const auto [scene, refusal] = scene_of(parameter);
+    return refusal ? 0.0 : stability_probe_cost(*scene, engine_.name, !passes && test_.settled_failure != nullptr);
   }
 
  private:
-  Verdict judged(Simulation& simulation) const {
-    simulation.run_to(simulation.scene().steps);
-    return test_.judge(simulation.scene(), simulation.trajectory());
-  }
-
   // The parameter's scene, or the verdict when the engine cannot build it: a stress the test's
   // engine_limit does not foresee is where it stops holding.
   std::pair<std::optional<SceneSpec>, std::optional<Verdict>> scene_of(double parameter) {
-    show_progress(engine_, test_, parameter);
     SceneSpec scene = load_test_scene(test_, options_.suite_dir, sets_, parameter);
     if (settings_.empty()) settings_ = engine_settings_json(engine_, scene);
     if (const std::optional<std::string> missing = missing_capability(engine_.capabilities, scene))
@@ -136,7 +112,6 @@ class PairProbes {
   const StabilityTest& test_;
   std::string& settings_;
   std::vector<std::pair<std::string, std::string>> sets_;
-  std::map<double, std::unique_ptr<Simulation>> begun_;
 };
 
 // Piece `piece.piece` of the search of one engine x test, or the whole search when it has one piece.
@@ -148,9 +123,10 @@ TestResult search_test(const StabilityOptions& options, const EngineInfo& engine
     outcome.result = find_engine_boundary(test, outcome.search, engine.capabilities,
                                           [&](double parameter) { return probes.evaluate(parameter); });
   } else {
-    const ProbeSource source{[&](double parameter) { return probes.foresee(parameter); },
+    const std::optional<double> last_pass = stability_last_pass(test.name, engine.name);
+    const ProbeSource source{[&](double parameter) { return last_pass && !is_harder(test.search, parameter, *last_pass); },
                              [&](double parameter) { return probes.evaluate(parameter); },
-                             [&](double parameter) { return probes.cost(parameter); }};
+                             [&](double parameter, bool passes) { return probes.cost(parameter, passes); }};
     outcome.result.evaluations = search_piece(test, outcome.search, engine.capabilities, piece.piece, piece.pieces, source);
   }
   for (const Evaluation& evaluation : outcome.result.evaluations)
@@ -177,7 +153,7 @@ WorkList work_list_of(const StabilityOptions& options, const std::vector<const E
       if (std::ranges::find(able[t], engine) == able[t].end()) continue;
       work.pairs.emplace_back(engine, tests[t]);
       work.costs.push_back(stability_cost(tests[t]->name, engine->name));
-      work.spreadable.push_back(tests[t]->settled_failure != nullptr);
+      work.spreadable.push_back(stability_last_pass(tests[t]->name, engine->name).has_value());
       keys.push_back(engine->name + " " + engine->version + " " + tests[t]->name + " " + start_scenes[t].hash);
     }
   work.identity = work_list_identity(keys);

@@ -1,8 +1,8 @@
 // Tests of a stability search spread over pieces (stability_pieces.h) on synthetic verdicts: for
 // every number of pieces, the verdicts the pieces find, replayed, give exactly the search
-// find_boundary runs alone, whether foresight predicts every pass right, mistakes late failures
-// for passes, or the verdicts are not monotone at all; and when foresight is right, each pass is
-// run to the end by one piece only.
+// find_boundary runs alone, whether the predicted boundary is right, wrong either way, or the
+// verdicts are not monotone at all; and when the prediction is right, each probe is evaluated by
+// one piece only, and the pieces' predicted costs are close.
 #include "analysis/stability_pieces.h"
 
 #include <gtest/gtest.h>
@@ -19,11 +19,14 @@
 namespace fxbench {
 namespace {
 
-// What a probe truly gives, and whether its failure shows within foresight.
+// What a probe truly gives, and what a piece predicts it gives.
 struct Truth {
   std::function<bool(double)> passes;
-  std::function<bool(double)> fails_early;  // asked only of failures
+  std::function<bool(double)> predicted;
 };
+
+// A pass costs its parameter squared (bodies of a pyramid grow so), a failure a tenth of that.
+double cost_of(double parameter, bool passes) { return parameter * parameter * (passes ? 1.0 : 0.1); }
 
 Verdict verdict_of(const Truth& truth, double parameter) {
   if (truth.passes(parameter)) return {};
@@ -32,35 +35,31 @@ Verdict verdict_of(const Truth& truth, double parameter) {
 
 struct PieceRun {
   std::vector<Evaluation> found;
-  int whole_runs = 0;  // probes evaluated to the end
+  int evaluations = 0;  // probes evaluated
 };
 
 PieceRun run_piece(const StabilityTest& test, const Truth& truth, int piece, int pieces) {
   PieceRun run;
   SearchSpec search = test.search;
-  const ProbeSource source{
-      [&](double parameter) -> std::optional<Verdict> {
-        if (!truth.passes(parameter) && truth.fails_early(parameter)) return verdict_of(truth, parameter);
-        return std::nullopt;
-      },
-      [&](double parameter) {
-        ++run.whole_runs;
-        return verdict_of(truth, parameter);
-      },
-      [](double parameter) { return parameter * parameter; }};
+  const ProbeSource source{truth.predicted,
+                           [&](double parameter) {
+                             ++run.evaluations;
+                             return verdict_of(truth, parameter);
+                           },
+                           cost_of};
   run.found = search_piece(test, search, EngineCapabilities{}, piece, pieces, source);
   return run;
 }
 
 // Replays the pieces' verdicts and expects the search find_boundary runs with every verdict at
-// hand; returns how many probes the pieces ran to the end, together.
+// hand; returns how many probes the pieces evaluated, together.
 int expect_pieces_give_the_whole_search(const StabilityTest& test, const Truth& truth, int pieces) {
   const SearchResult whole = find_boundary(test.search, [&](double parameter) { return verdict_of(truth, parameter); });
   std::map<double, Verdict> found;
-  int whole_runs = 0;
+  int evaluations = 0;
   for (int piece = 0; piece < pieces; ++piece) {
     const PieceRun run = run_piece(test, truth, piece, pieces);
-    whole_runs += run.whole_runs;
+    evaluations += run.evaluations;
     for (const Evaluation& evaluation : run.found) {
       EXPECT_EQ(evaluation.verdict.pass, truth.passes(evaluation.parameter)) << evaluation.parameter;
       found.emplace(evaluation.parameter, evaluation.verdict);
@@ -76,7 +75,7 @@ int expect_pieces_give_the_whole_search(const StabilityTest& test, const Truth& 
     EXPECT_EQ(replayed.evaluations[i].verdict.pass, whole.evaluations[i].verdict.pass);
     EXPECT_EQ(replayed.evaluations[i].verdict.reason, whole.evaluations[i].verdict.reason);
   }
-  return whole_runs;
+  return evaluations;
 }
 
 StabilityTest integer_test() {
@@ -86,31 +85,42 @@ StabilityTest integer_test() {
   return test;
 }
 
-int passes_in(const SearchResult& result) {
-  int passes = 0;
-  for (const Evaluation& evaluation : result.evaluations) passes += evaluation.verdict.pass ? 1 : 0;
-  return passes;
-}
-
-TEST(SpreadSearch, ForesightRightEveryPassRunsOnceAndTheReplayIsTheSearch) {
+TEST(SpreadSearch, PredictionRightEveryProbeRunsOnceAndTheReplayIsTheSearch) {
   const StabilityTest test = integer_test();
   for (const double boundary : {3.0, 4.0, 5.0, 33.0, 55.0, 63.0, 64.0, 100.0, 128.0}) {
-    const Truth truth{[=](double x) { return x <= boundary; }, [](double) { return true; }};
+    const auto passes = [=](double x) { return x <= boundary; };
+    const Truth truth{passes, passes};
     const SearchResult whole = find_boundary(test.search, [&](double x) { return verdict_of(truth, x); });
     for (int pieces = 1; pieces <= 4; ++pieces) {
       SCOPED_TRACE("boundary " + std::to_string(boundary) + ", " + std::to_string(pieces) + " pieces");
-      EXPECT_EQ(expect_pieces_give_the_whole_search(test, truth, pieces), passes_in(whole));
+      EXPECT_EQ(expect_pieces_give_the_whole_search(test, truth, pieces), static_cast<int>(whole.evaluations.size()));
     }
   }
 }
 
-TEST(SpreadSearch, LateFailuresMistakenForPassesStillGiveTheSearch) {
+// Two pieces of a search with a dozen probes, the prediction right: what each piece evaluates
+// costs within 3% of the other (the deal is by cost; by count of probes one piece would hold the
+// five largest passes).
+TEST(SpreadSearch, PredictionRightTwoPiecesCostAlike) {
+  const StabilityTest test = integer_test();
+  for (const double boundary : {55.0, 63.0, 100.0}) {
+    const auto passes = [=](double x) { return x <= boundary; };
+    const Truth truth{passes, passes};
+    double piece_cost[2] = {0.0, 0.0};
+    for (int piece = 0; piece < 2; ++piece)
+      for (const Evaluation& evaluation : run_piece(test, truth, piece, 2).found)
+        piece_cost[piece] += cost_of(evaluation.parameter, evaluation.verdict.pass);
+    EXPECT_LT(std::abs(piece_cost[0] - piece_cost[1]), 0.03 * (piece_cost[0] + piece_cost[1])) << "boundary " << boundary;
+  }
+}
+
+TEST(SpreadSearch, WrongPredictionsEitherWayStillGiveTheSearch) {
   const StabilityTest test = integer_test();
   for (const double boundary : {4.0, 17.0, 47.0, 55.0, 100.0})
-    for (const double late : {1.0, 3.0, 20.0, 1000.0}) {  // failures within `late` of the boundary show late
-      const Truth truth{[=](double x) { return x <= boundary; }, [=](double x) { return x > boundary + late; }};
+    for (const double error : {-1000.0, -20.0, -3.0, -1.0, 1.0, 3.0, 20.0, 1000.0}) {  // predicted boundary - true
+      const Truth truth{[=](double x) { return x <= boundary; }, [=](double x) { return x <= boundary + error; }};
       for (int pieces = 1; pieces <= 4; ++pieces) {
-        SCOPED_TRACE("boundary " + std::to_string(boundary) + ", late " + std::to_string(late) + ", " + std::to_string(pieces) + " pieces");
+        SCOPED_TRACE("boundary " + std::to_string(boundary) + ", error " + std::to_string(error) + ", " + std::to_string(pieces) + " pieces");
         expect_pieces_give_the_whole_search(test, truth, pieces);
       }
     }

@@ -367,38 +367,5 @@ TEST(StabilitySuite, AFailureSettledEarlyIsTheWholeTrajectorysVerdict) {
   }
 }
 
-// A spread search runs a probe's foresight, leaves it while it runs others, and goes on with it
-// later (stability_pieces.h): the trajectory in goes, with other worlds of the same engine stepped
-// in between, is the one run in one go, to the bit; and a settled failure stops it for good.
-TEST(StabilitySuite, ASimulationRunInGoesIsTheSimulationRunInOne) {
-  for (const std::string engine_name : {"fx2d", "box2d", "ode", "chipmunk"}) {
-    const StabilityTest& test = suite_test("pyramid");
-    const EngineInfo* engine = find_engine(engine_name);
-    ASSERT_NE(engine, nullptr);
-    const SceneSpec scene = load_test_scene(test, FX2D_SOURCE_DIR "/scenes/stability", {}, 12);
-    const Trajectory whole = simulate(scene, *engine, test.sample_every, test.settled_failure);
-    Simulation in_goes(scene, *engine, test.sample_every, test.settled_failure);
-    Simulation between(load_test_scene(test, FX2D_SOURCE_DIR "/scenes/stability", {}, 64), *engine, test.sample_every,
-                       test.settled_failure);
-    for (const int last_step : {7, 30, 31, 150, scene.steps}) {
-      in_goes.run_to(last_step);
-      between.run_to(last_step);
-    }
-    EXPECT_TRUE(in_goes.stopped()) << engine_name;
-    EXPECT_EQ(in_goes.trajectory().times, whole.times) << engine_name;
-    ASSERT_EQ(in_goes.trajectory().states.size(), whole.states.size()) << engine_name;
-    for (std::size_t sample = 0; sample < whole.states.size(); ++sample)
-      for (std::size_t body = 0; body < whole.states[sample].size(); ++body) {
-        const BodyState& a = in_goes.trajectory().states[sample][body];
-        const BodyState& b = whole.states[sample][body];
-        EXPECT_TRUE(a.position.x == b.position.x && a.position.y == b.position.y && a.angle == b.angle)
-            << engine_name << " sample " << sample << " body " << body;
-      }
-    // A pyramid of 64 falls within 30 steps on every engine but Fx2D, which holds it (the golden).
-    EXPECT_EQ(between.settled(), engine_name != "fx2d") << engine_name;
-    EXPECT_TRUE(between.stopped()) << engine_name;
-  }
-}
-
 }  // namespace
 }  // namespace fxbench
