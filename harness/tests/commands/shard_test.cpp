@@ -4,12 +4,15 @@
 // deterministic field equal: accuracy, state hashes, settings, stability boundaries and
 // evaluations. Timings, and the fronts a sweep derives from them, are the only fields left out.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -45,6 +48,23 @@ TEST(StabilityCosts, EveryTestOfTheSuiteOnEveryEngineOfTheRegistryIsMeasured) {
   for (const StabilityTest& test : stability_suite())
     for (const EngineInfo& engine : engine_registry())
       EXPECT_TRUE(stability_cost_measured(test.name, engine.name)) << test.name << " on " << engine.name;
+}
+
+// The boundaries a spread search predicts from are the stability golden's: a re-baselined boundary
+// that leaves this table behind would cost the shards their balance, unseen.
+TEST(StabilityCosts, EveryStoredLastPassIsTheFullGoldensBoundary) {
+  std::ifstream file(fs::path(FX2D_SOURCE_DIR) / "goldens" / "stability_full.json");
+  ASSERT_TRUE(file) << "goldens/stability_full.json";
+  const nlohmann::json golden = nlohmann::json::parse(file);
+  for (const nlohmann::json& row : golden.at("results")) {
+    const std::string test = row.at("test"), engine = row.at("engine");
+    const std::optional<double> stored = stability_last_pass(test, engine);
+    if (row.at("last_pass").is_null()) {
+      EXPECT_FALSE(stored.has_value()) << test << " on " << engine;
+    } else {
+      EXPECT_EQ(stored, std::optional<double>(row.at("last_pass").get<double>())) << test << " on " << engine;
+    }
+  }
 }
 
 TEST(ShardSpec, ParsesKOfNAndRefusesTheRest) {
