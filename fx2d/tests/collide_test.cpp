@@ -19,7 +19,7 @@ FxTransform at(float x, float y, float angle = 0.0f) { return {{x, y}, FxRot::fr
 Manifold collide_pair(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
                       float speculative_distance = speculative) {
   Manifold m;
-  collide(a, xf_a, b, xf_b, speculative_distance, m);
+  collide(a, xf_a, b, xf_b, speculative_distance, {}, m);
   return m;
 }
 
@@ -180,6 +180,65 @@ TEST(CollidePolygons, EqualBoxesRockingSlightlyKeepTheirReferenceFace) {
   sort_by_x(right);
   EXPECT_EQ(left.points[0].id, right.points[0].id);
   EXPECT_EQ(left.points[1].id, right.points[1].id);
+}
+
+// Every field of the contact, compared to the bit; the separating face only as far as whether
+// one was found, since of several faces that part a pair the one tried first may be named.
+void expect_same_contact(const Manifold& actual, const Manifold& expected) {
+  EXPECT_EQ(actual.point_count, expected.point_count);
+  EXPECT_EQ(actual.normal, expected.normal);
+  EXPECT_EQ(actual.normal_frame, expected.normal_frame);
+  EXPECT_EQ(actual.separating_face.owner == SeparatingFace::Owner::none,
+            expected.separating_face.owner == SeparatingFace::Owner::none);
+  for (int i = 0; i < expected.point_count; ++i) {
+    EXPECT_EQ(actual.points[i].point, expected.points[i].point);
+    EXPECT_EQ(actual.points[i].separation, expected.points[i].separation);
+    EXPECT_EQ(actual.points[i].id, expected.points[i].id);
+  }
+}
+
+Manifold collide_trying_first(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
+                              SeparatingFace first_try) {
+  Manifold m;
+  collide(a, xf_a, b, xf_b, speculative, first_try, m);
+  return m;
+}
+
+TEST(CollidePolygons, ApartPolygonsNameAFaceThatSeparatesThem) {
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  using Owner = SeparatingFace::Owner;
+  // 5 cm above a level box's top face: that face parts them.
+  const Manifold above = collide_pair(box, at(0.0f, 0.0f), box, at(0.0f, 1.05f));
+  EXPECT_EQ(above.point_count, 0);
+  ASSERT_EQ(above.separating_face.owner, Owner::a);
+  EXPECT_EQ(box.normals()[above.separating_face.edge], (FxVec2f{0.0f, 1.0f}));
+  // A box on its corner 5 cm below a level one: none of its slanted faces parts them, the level
+  // box's bottom face does.
+  const float tip = 0.5f * std::sqrt(2.0f);
+  const Manifold below = collide_pair(box, at(0.0f, 0.0f, 0.785398f), box, at(0.0f, tip + 0.55f));
+  EXPECT_EQ(below.point_count, 0);
+  ASSERT_EQ(below.separating_face.owner, Owner::b);
+  EXPECT_EQ(box.normals()[below.separating_face.edge], (FxVec2f{0.0f, -1.0f}));
+}
+
+TEST(CollidePolygons, TheFaceTriedFirstNeverChangesTheManifold) {
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  const FxShape wide = FxShape::box(1.5f, 0.25f);
+  using Owner = SeparatingFace::Owner;
+  // Pairs apart along A's face or B's, touching face to face, corner to face, and overlapping.
+  const FxTransform placements[][2] = {{at(0.0f, 0.0f), at(0.1f, 1.05f)},
+                                       {at(0.0f, 0.0f, 0.785398f), at(0.0f, 1.3f)},
+                                       {at(0.0f, 0.0f), at(0.3f, 0.75f)},
+                                       {at(0.0f, 0.0f), at(0.2f, 1.2f, 0.6f)},
+                                       {at(0.0f, 0.0f, 0.1f), at(0.4f, 0.6f, -0.2f)}};
+  for (const auto& [xf_a, xf_b] : placements) {
+    const Manifold fresh = collide_pair(box, xf_a, wide, xf_b);
+    for (const Owner owner : {Owner::a, Owner::b}) {
+      for (std::uint8_t edge = 0; edge < 4; ++edge) {
+        expect_same_contact(collide_trying_first(box, xf_a, wide, xf_b, {owner, edge}), fresh);
+      }
+    }
+  }
 }
 
 TEST(Collide, NormalPointsFromAToBForBothArgumentOrders) {

@@ -57,18 +57,33 @@ struct FaceSeparation {
   float separation = 0.0f;
 };
 
-// The edge of `reference` whose normal separates `other` the most, and by how much.
-FaceSeparation max_face_separation(const PolygonView& reference, const PolygonView& other) {
+// How far `other` lies beyond the face with `normal` through `origin`: its deepest vertex's distance.
+float separation_along(FxVec2f normal, FxVec2f origin, const PolygonView& other) {
+  float deepest = std::numeric_limits<float>::max();
+  for (int j = 0; j < other.count; ++j) {
+    const float s = dot(normal, other.vertices[j] - origin);
+    if (s < deepest) deepest = s;
+  }
+  return deepest;
+}
+
+// The edge of `reference` whose normal separates `other` the most, and by how much; or the first
+// edge that separates it by `apart` or more, since the pair is then apart whichever separates most.
+FaceSeparation max_face_separation(const PolygonView& reference, const PolygonView& other, float apart) {
   FaceSeparation best{0, -std::numeric_limits<float>::max()};
   for (int i = 0; i < reference.count; ++i) {
-    float deepest = std::numeric_limits<float>::max();
-    for (int j = 0; j < other.count; ++j) {
-      const float s = dot(reference.normals[i], other.vertices[j] - reference.vertices[i]);
-      if (s < deepest) deepest = s;
-    }
+    const float deepest = separation_along(reference.normals[i], reference.vertices[i], other);
+    if (deepest >= apart) return {i, deepest};
     if (deepest > best.separation) best = {i, deepest};
   }
   return best;
+}
+
+// True when `face` of polygon b (placed in a's frame by `b_in_a`) still holds a apart by `apart`:
+// the very arithmetic max_face_separation does for that face, on that face's vertex and normal alone.
+bool b_face_separates(const FxShape& b, const FxTransform& b_in_a, int face, const PolygonView& poly_a, float apart) {
+  return separation_along(rotate(b_in_a.q, b.normals()[face]), transform_point(b_in_a, b.vertices()[face]),
+                          poly_a) >= apart;
 }
 
 // The edge of `polygon` whose normal is most anti-parallel to `normal`.
@@ -187,22 +202,35 @@ void collide_polygon_circle(const FxShape& a, const FxTransform& xf_a, const FxS
 }
 
 void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
-                      float speculative_distance, Manifold& out) {
+                      float speculative_distance, SeparatingFace first_try, Manifold& out) {
   out = Manifold{};
   // Work in A's frame: A's vertices and normals as stored, B's placed relative to it. B's normals
   // only once A's faces have not separated the two, as they do for most pairs the broad phase finds.
+  // Any face that separates the pair by the speculative distance ends the search with no points,
+  // so the face that did so last time is tried first, and the searches stop at the first one.
+  using Owner = SeparatingFace::Owner;
+  const auto apart_along = [&out](Owner owner, int edge) { out.separating_face = {owner, std::uint8_t(edge)}; };
   const FxTransform b_in_a = inv_mul(xf_a, xf_b);
   const int count_b = b.vertex_count();
+  const PolygonView poly_a{a.vertices().data(), a.normals().data(), a.vertex_count()};
+  if (first_try.owner == Owner::b &&
+      b_face_separates(b, b_in_a, first_try.edge, poly_a, speculative_distance)) {
+    return apart_along(Owner::b, first_try.edge);
+  }
   std::array<FxVec2f, FxShape::max_vertices> b_vertices, b_normals;
   for (int i = 0; i < count_b; ++i) b_vertices[i] = transform_point(b_in_a, b.vertices()[i]);
-  const PolygonView poly_a{a.vertices().data(), a.normals().data(), a.vertex_count()};
   const PolygonView poly_b{b_vertices.data(), b_normals.data(), count_b};
-  // A's faces read only B's vertices.
-  const FaceSeparation face_a = max_face_separation(poly_a, poly_b);
-  if (!(face_a.separation < speculative_distance)) return;
+  // A's faces read only B's vertices; B's face tried first read only its own vertex and normal.
+  if (first_try.owner == Owner::a &&
+      separation_along(poly_a.normals[first_try.edge], poly_a.vertices[first_try.edge], poly_b) >=
+          speculative_distance) {
+    return apart_along(Owner::a, first_try.edge);
+  }
+  const FaceSeparation face_a = max_face_separation(poly_a, poly_b, speculative_distance);
+  if (!(face_a.separation < speculative_distance)) return apart_along(Owner::a, face_a.edge);
   for (int i = 0; i < count_b; ++i) b_normals[i] = rotate(b_in_a.q, b.normals()[i]);
-  const FaceSeparation face_b = max_face_separation(poly_b, poly_a);
-  if (!(face_b.separation < speculative_distance)) return;
+  const FaceSeparation face_b = max_face_separation(poly_b, poly_a, speculative_distance);
+  if (!(face_b.separation < speculative_distance)) return apart_along(Owner::b, face_b.edge);
 
   const bool reference_is_b = face_b.separation > face_a.separation + reference_face_hysteresis;
   const PolygonView& reference = reference_is_b ? poly_b : poly_a;
@@ -237,7 +265,7 @@ void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& 
 }
 
 void collide(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
-             float speculative_distance, Manifold& out) {
+             float speculative_distance, SeparatingFace first_try, Manifold& out) {
   const bool a_is_circle = a.type() == FxShapeType::circle;
   const bool b_is_circle = b.type() == FxShapeType::circle;
   if (a_is_circle && b_is_circle) {
@@ -250,7 +278,7 @@ void collide(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const 
     out.normal = -out.normal;
     if (out.normal_frame == NormalFrame::body_a) out.normal_frame = NormalFrame::body_b;
   } else {
-    collide_polygons(a, xf_a, b, xf_b, speculative_distance, out);
+    collide_polygons(a, xf_a, b, xf_b, speculative_distance, first_try, out);
   }
 }
 

@@ -28,9 +28,19 @@ struct ManifoldPoint {
 // polygon's face normal turns with that polygon, two circles' normal with neither.
 enum class NormalFrame : std::uint8_t { world, body_a, body_b };
 
+// A face that held two polygons at least the speculative distance apart. Most pairs the broad
+// phase keeps are apart, and stay apart along the same face step after step, so the pair's next
+// collision tries that face first and, while it still separates them, skips the full search.
+struct SeparatingFace {
+  enum class Owner : std::uint8_t { none, a, b };
+  Owner owner = Owner::none;
+  std::uint8_t edge = 0;
+};
+
 struct Manifold {
   FxVec2f normal;         // unit, from A towards B
   NormalFrame normal_frame = NormalFrame::world;
+  SeparatingFace separating_face;  // with no points: the face that found two polygons apart, if one did
   ManifoldPoint points[2];
   int point_count = 0;    // 0 when the shapes are farther apart than the speculative distance
 };
@@ -39,12 +49,15 @@ void collide_circles(const FxShape& a, const FxTransform& xf_a, const FxShape& b
                      float speculative_distance, Manifold& out);
 void collide_polygon_circle(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
                             float speculative_distance, Manifold& out);
+// `first_try` is the face that separated the pair last time (the previous manifold's
+// separating_face, or none; an edge of that polygon): tried before the others, it changes only how
+// soon a separated pair is found apart, never the manifold.
 void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
-                      float speculative_distance, Manifold& out);
+                      float speculative_distance, SeparatingFace first_try, Manifold& out);
 
 // Dispatches on the two shape types. A circle-polygon pair is solved as polygon-circle and its
 // normal flipped, so the result always points from `a` to `b`.
 void collide(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
-             float speculative_distance, Manifold& out);
+             float speculative_distance, SeparatingFace first_try, Manifold& out);
 
 }  // namespace fx2d::detail

@@ -143,12 +143,16 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
   }
   // Collided at the widest margin any normal could need, then trimmed to the one it found.
   Manifold manifold;
-  collide(ra.shape, xf_a, rb.shape, xf_b, speculative_distance(dt, motion.fastest_closing()), manifold);
-  keep_points_within(manifold, speculative_distance(dt, motion.closing_along(manifold.normal)));
+  collide(ra.shape, xf_a, rb.shape, xf_b, speculative_distance(dt, motion.fastest_closing()),
+          contact.manifold.separating_face, manifold);
+  if (manifold.point_count > 0) {
+    keep_points_within(manifold, speculative_distance(dt, motion.closing_along(manifold.normal)));
+  }
   ContactCache::replace_manifold(contact, manifold);
   const bool polygons = ra.shape.type() == FxShapeType::polygon && rb.shape.type() == FxShapeType::polygon;
   contact.frame.valid = false;
-  if (polygons) contact.frame = frame_of(manifold, xf_a, xf_b);
+  // A pair with no points has nothing to reuse.
+  if (polygons && manifold.point_count > 0) contact.frame = frame_of(manifold, xf_a, xf_b);
   return PairUpdate::collided;
 }
 
