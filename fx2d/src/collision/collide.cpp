@@ -227,10 +227,11 @@ void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& 
     return apart_along(Owner::a, first_try.edge);
   }
   const FaceSeparation face_a = max_face_separation(poly_a, poly_b, speculative_distance);
-  if (!(face_a.separation < speculative_distance)) return apart_along(Owner::a, face_a.edge);
   for (int i = 0; i < count_b; ++i) b_normals[i] = rotate(b_in_a.q, b.normals()[i]);
   const FaceSeparation face_b = max_face_separation(poly_b, poly_a, speculative_distance);
+  // Of two faces that part the pair, B's is named: trying it first places one of B's vertices, not all.
   if (!(face_b.separation < speculative_distance)) return apart_along(Owner::b, face_b.edge);
+  if (!(face_a.separation < speculative_distance)) return apart_along(Owner::a, face_a.edge);
 
   const bool reference_is_b = face_b.separation > face_a.separation + reference_face_hysteresis;
   const PolygonView& reference = reference_is_b ? poly_b : poly_a;
