@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "world/step_context.h"
 
@@ -69,10 +70,9 @@ void update_rest(const FxSceneSettings& settings, const BodySim& sim, BodyRecord
   if (speed_squared > sliding_speed * sliding_speed) record.sleep_time = 0.0f;
 }
 
-// Writes one body's pose and velocity back with carries, and refreshes its sleep time and box.
+// Writes one body's pose and velocity back with carries, and refreshes its sleep time.
 // Touches that body's records alone, so bodies are finalized on several threads at once.
-void finalize_body(const FxSceneSettings& settings, const FxBodyState& state, BodySim& sim, BodyRecord& record,
-                   const BroadPhase& broad) {
+void finalize_body(const FxSceneSettings& settings, const FxBodyState& state, BodySim& sim, BodyRecord& record) {
   const FxRot start = sim.rotation;
   FxRot end = mul(state.delta_rotation, start);
   const float norm = std::sqrt(end.c * end.c + end.s * end.s);
@@ -87,8 +87,21 @@ void finalize_body(const FxSceneSettings& settings, const FxBodyState& state, Bo
   sim.force = {};
 
   update_rest(settings, sim, record);
+}
 
-  record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
+// Refreshes the box of a body finalize_body() has written. compute_aabb() reads its transform
+// with one 16-byte load, and a load the CPU cannot forward from the narrower stores still in its
+// store buffer waits for them to reach the cache: so the boxes of a block are refreshed after the
+// whole block is finalized (the pose's four-byte stores long done), and the transform is written
+// in one 16-byte store, not a temporary's two eight-byte ones (without both, the integrate stage
+// took 1.06 to 1.16 times as long on the canonical scenes).
+void refresh_box(BodySim& sim, BodyRecord& record, const BroadPhase& broad) {
+  using Row = float __attribute__((vector_size(16)));
+  static_assert(sizeof(FxTransform) == sizeof(Row), "a transform is four floats");
+  const Row row = {sim.origin.x, sim.origin.y, sim.rotation.c, sim.rotation.s};
+  FxTransform pose;
+  std::memcpy(static_cast<void*>(&pose), &row, sizeof row);
+  record.shape.compute_aabb(pose, sim.aabb);
   broad.refresh(record, sim.aabb);
 }
 
@@ -240,9 +253,11 @@ void finalize_bodies(const StepContext& step, const SolverData& solver, Bodies& 
   const std::span<const std::uint32_t> moving = solver.integration.moving_bodies();
   step.tasks.for_each_range(static_cast<std::uint32_t>(moving.size()), bodies_per_block, min_parallel_bodies,
                             [&](std::uint32_t first, std::uint32_t last) {
-                              for (const std::uint32_t i : moving.subspan(first, last - first)) {
-                                finalize_body(step.settings, solver.states[i], bodies.sims[i], bodies.records[i], broad);
+                              const std::span<const std::uint32_t> block = moving.subspan(first, last - first);
+                              for (const std::uint32_t i : block) {
+                                finalize_body(step.settings, solver.states[i], bodies.sims[i], bodies.records[i]);
                               }
+                              for (const std::uint32_t i : block) refresh_box(bodies.sims[i], bodies.records[i], broad);
                             });
 }
 
