@@ -89,7 +89,7 @@ TEST(CollidePolygons, OverlappingBoxesReportPenetrationDepth) {
   expect_near(m.points[1].point, {0.5f, 0.45f});
 }
 
-TEST(CollidePolygons, RotatedBoxCornerOnAFaceGivesOnePoint) {
+TEST(CollidePolygons, RotatedBoxCornerOnAFaceTouchesThereAndKeepsItsEdgesFarEnd) {
   const FxShape ground = FxShape::box(2.0f, 0.5f);
   const FxShape box = FxShape::box(0.5f, 0.5f);
   const float angle = 0.6f;
@@ -99,10 +99,12 @@ TEST(CollidePolygons, RotatedBoxCornerOnAFaceGivesOnePoint) {
   const FxVec2f corner_offset{0.5f * (s - c), -0.5f * (c + s)};
   const FxVec2f center{0.1f, -corner_offset.y - 0.01f};
   const Manifold m = collide_pair(ground, at(0.0f, -0.5f), box, {center, {c, s}});
-  ASSERT_EQ(m.point_count, 1);
+  ASSERT_EQ(m.point_count, 2);
   expect_near(m.normal, {0.0f, 1.0f});
   EXPECT_NEAR(m.points[0].separation, -0.01f, tolerance);
   expect_near(m.points[0].point, {center.x + corner_offset.x, -0.005f});
+  // The other end of the bottom edge, speculative: it rises sin(0.6) over the edge's 1 m.
+  EXPECT_NEAR(m.points[1].separation, -0.01f + s, tolerance);
 }
 
 TEST(CollidePolygons, CardsLeaningTogetherMeetCornerToCornerAlongTheirBisector) {
@@ -127,17 +129,26 @@ TEST(CollidePolygons, CardsLeaningTogetherMeetCornerToCornerAlongTheirBisector) 
   }
 }
 
-TEST(CollidePolygons, PointsBeyondTheSpeculativeDistanceAreDropped) {
+TEST(CollidePolygons, EdgesBeyondTheSpeculativeDistanceAreDropped) {
   const FxShape box = FxShape::box(0.5f, 0.5f);
   // A gap of 0.03 m between the faces.
   EXPECT_EQ(collide_pair(box, at(0.0f, 0.0f), box, at(0.0f, 1.03f), 0.02f).point_count, 0);
   const Manifold m = collide_pair(box, at(0.0f, 0.0f), box, at(0.0f, 1.03f), 0.04f);
   ASSERT_EQ(m.point_count, 2);
   for (const ManifoldPoint& p : m.points) EXPECT_NEAR(p.separation, 0.03f, tolerance);
-  // A tilted box whose near corner is inside the speculative band and whose far corner is not.
-  const Manifold tilted = collide_pair(box, at(0.0f, 0.0f), box, at(0.0f, 1.0f, 0.02f), 0.005f);
-  ASSERT_EQ(tilted.point_count, 1);
-  EXPECT_LT(tilted.points[0].separation, 0.005f);
+  // A tilted box whose near corner is inside the speculative band and whose far corner is not: the
+  // far corner stays, speculative, as the other end of the edge (the box may be struck down about
+  // the near one within the step).
+  const Manifold tilted = collide_pair(box, at(0.0f, 0.0f), box, at(0.2f, 1.0f, 0.02f), 0.005f);
+  ASSERT_EQ(tilted.point_count, 2);
+  const float near = std::min(tilted.points[0].separation, tilted.points[1].separation);
+  const float far = std::max(tilted.points[0].separation, tilted.points[1].separation);
+  EXPECT_LT(near, 0.005f);
+  // The edge runs from the low corner to where A's side x = 0.5 clips it, rising tan 0.02 a metre.
+  const float low_corner_x = 0.2f - 0.5f * std::cos(0.02f) + 0.5f * std::sin(0.02f);
+  EXPECT_NEAR(far - near, (0.5f - low_corner_x) * std::tan(0.02f), tolerance);
+  // Lifted clear of the band, neither end is kept.
+  EXPECT_EQ(collide_pair(box, at(0.0f, 0.0f), box, at(0.2f, 1.03f, 0.02f), 0.005f).point_count, 0);
 }
 
 TEST(CollidePolygons, FeatureIdsAreStableUnderSmallMotionAndDistinctWithinAManifold) {
@@ -161,11 +172,13 @@ TEST(CollidePolygons, SwappingTheShapesKeepsThePointButNotTheId) {
   // is A, so the point and depth agree, while the id records that the reference moved to B.
   const Manifold ab = collide_pair(box, at(0.3f, 0.5f, 0.2f), ground, at(0.0f, -0.5f));
   const Manifold ba = collide_pair(ground, at(0.0f, -0.5f), box, at(0.3f, 0.5f, 0.2f));
-  ASSERT_EQ(ab.point_count, 1);
-  ASSERT_EQ(ba.point_count, 1);
-  EXPECT_NE(ab.points[0].id, ba.points[0].id);
-  EXPECT_NEAR(ab.points[0].separation, ba.points[0].separation, tolerance);
-  expect_near(ab.points[0].point, ba.points[0].point);
+  ASSERT_EQ(ab.point_count, 2);  // the corner, and the far end of its edge
+  ASSERT_EQ(ba.point_count, 2);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NE(ab.points[i].id, ba.points[i].id);
+    EXPECT_NEAR(ab.points[i].separation, ba.points[i].separation, tolerance);
+    expect_near(ab.points[i].point, ba.points[i].point);
+  }
 }
 
 TEST(CollidePolygons, EqualBoxesRockingSlightlyKeepTheirReferenceFace) {

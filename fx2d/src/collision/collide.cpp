@@ -116,15 +116,12 @@ bool clip_to_side_plane(ClipVertex& a, ClipVertex& b, FxVec2f direction, FxVec2f
   return true;
 }
 
-// The normal of a single-point contact, from the reference polygon towards the incident one: the
-// bisector of the reference face and the incident polygon's best separating face when the two
-// separate the pair equally and face each other (two corners meeting), else the reference face's.
-// An edge on a face gives two points and a corner well inside a face gives no tie, so both keep
-// the face normal bit for bit.
-FxVec2f corner_normal(FxVec2f reference_normal, FxVec2f incident_face_normal, float separation_difference) {
-  const bool corners_meet = std::abs(separation_difference) <= corner_tie_tolerance &&
-                            dot(reference_normal, incident_face_normal) < 0.0f;
-  return corners_meet ? normalize(reference_normal - incident_face_normal) : reference_normal;
+// True when two corners meet: the reference face and the incident polygon's best separating face
+// separate the pair equally and face each other. A single point there takes the bisector of the two
+// faces as its normal, else the reference face's. An edge on a face gives two points and a corner
+// well inside a face gives no tie, so both keep the face normal bit for bit.
+bool corners_meet(FxVec2f reference_normal, FxVec2f incident_face_normal, float separation_difference) {
+  return std::abs(separation_difference) <= corner_tie_tolerance && dot(reference_normal, incident_face_normal) < 0.0f;
 }
 
 void add_point(Manifold& out, FxVec2f point, float separation, std::uint32_t id) {
@@ -250,17 +247,23 @@ void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& 
   if (!clip_to_side_plane(clip[0], clip[1], tangent, ref_start)) return;
   if (!clip_to_side_plane(clip[0], clip[1], -tangent, ref_end)) return;
 
-  for (const ClipVertex& v : clip) {
-    const float separation = dot(normal, v.point - ref_start);
-    if (!(separation < speculative_distance)) continue;
-    const FxVec2f midway = v.point - (0.5f * separation) * normal;
-    add_point(out, transform_point(xf_a, midway), separation,
-              polygon_feature_id(reference_is_b, reference_edge, v.vertex));
+  // An end beyond the speculative distance is kept, speculative, while the other end is within it:
+  // a body struck or set turning within the step swings that end about the near one faster than its
+  // motion at the step's start foretells (narrow_phase.cpp). Not where two corners meet: the far end
+  // of that edge is no feature of the contact.
+  const FxVec2f incident_face_normal = incident.normals[reference_is_b ? face_a.edge : face_b.edge];
+  const bool corner_tie = corners_meet(normal, incident_face_normal, face_a.separation - face_b.separation);
+  const float separations[2] = {dot(normal, clip[0].point - ref_start), dot(normal, clip[1].point - ref_start)};
+  const bool whole_edge =
+      !corner_tie && (separations[0] < speculative_distance || separations[1] < speculative_distance);
+  for (int i = 0; i < 2; ++i) {
+    if (!(separations[i] < speculative_distance) && !whole_edge) continue;
+    const FxVec2f midway = clip[i].point - (0.5f * separations[i]) * normal;
+    add_point(out, transform_point(xf_a, midway), separations[i],
+              polygon_feature_id(reference_is_b, reference_edge, clip[i].vertex));
   }
   const FxVec2f contact_normal =
-      out.point_count == 1 ? corner_normal(normal, incident.normals[reference_is_b ? face_a.edge : face_b.edge],
-                                           face_a.separation - face_b.separation)
-                           : normal;
+      out.point_count == 1 && corner_tie ? normalize(normal - incident_face_normal) : normal;
   out.normal = rotate(xf_a.q, reference_is_b ? -contact_normal : contact_normal);
   out.normal_frame = reference_is_b ? NormalFrame::body_b : NormalFrame::body_a;
 }

@@ -22,13 +22,18 @@ float speculative_distance(float dt, float closing_speed) {
   return std::min(base_speculative_distance + dt * closing_speed, max_speculative_distance);
 }
 
-// Drops the points farther apart than `distance`, keeping the others in order.
-void keep_points_within(Manifold& manifold, float distance) {
-  int kept = 0;
+// True when a point of `manifold` is closer than `distance`.
+bool any_point_within(const Manifold& manifold, float distance) {
   for (int i = 0; i < manifold.point_count; ++i) {
-    if (manifold.points[i].separation < distance) manifold.points[kept++] = manifold.points[i];
+    if (manifold.points[i].separation < distance) return true;
   }
-  manifold.point_count = kept;
+  return false;
+}
+
+// Empties the manifold when no point is within `distance`, else keeps every point: both ends of a
+// polygon's clipped edge, the far one for a body struck or set turning within the step (collide.cpp).
+void keep_if_any_point_within(Manifold& manifold, float distance) {
+  if (!any_point_within(manifold, distance)) manifold.point_count = 0;
 }
 
 // A polygon pair whose shapes moved less than this relative to each other since its last full
@@ -73,13 +78,6 @@ Manifold moved_manifold(const ManifoldFrame& frame, const Manifold& previous, co
     manifold.points[i].separation = dot(on_b - on_a, manifold.normal);
   }
   return manifold;
-}
-
-bool all_points_within(const Manifold& manifold, float distance) {
-  for (int i = 0; i < manifold.point_count; ++i) {
-    if (manifold.points[i].separation >= distance) return false;
-  }
-  return true;
 }
 
 }  // namespace
@@ -133,10 +131,10 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
   const PairMotion motion = pair_motion(bodies, a, b);
   const float dt = step.settings.dt;
   // Resting polygons, the common case in a stack or a settled heap, skip the separating-axis search
-  // and the clip while their points stay within the speculative margin.
+  // and the clip while a point stays within the speculative margin.
   if (contact.frame.valid && barely_moved(contact.frame, inv_mul(xf_a, xf_b), rb.shape)) {
     const Manifold moved = moved_manifold(contact.frame, contact.manifold, xf_a, xf_b);
-    if (all_points_within(moved, speculative_distance(dt, motion.closing_along(moved.normal)))) {
+    if (any_point_within(moved, speculative_distance(dt, motion.closing_along(moved.normal)))) {
       contact.manifold = moved;  // the same features: every point keeps its impulses
       return PairUpdate::collided;
     }
@@ -146,7 +144,7 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
   collide(ra.shape, xf_a, rb.shape, xf_b, speculative_distance(dt, motion.fastest_closing()),
           contact.manifold.separating_face, manifold);
   if (manifold.point_count > 0) {
-    keep_points_within(manifold, speculative_distance(dt, motion.closing_along(manifold.normal)));
+    keep_if_any_point_within(manifold, speculative_distance(dt, motion.closing_along(manifold.normal)));
   }
   ContactCache::replace_manifold(contact, manifold);
   const bool polygons = ra.shape.type() == FxShapeType::polygon && rb.shape.type() == FxShapeType::polygon;
