@@ -19,6 +19,9 @@ constexpr float proxy_margin = 0.1f;  // metres
 constexpr float proxy_sweep_steps = 4.0f;
 // The tree is rebuilt when more than one proxy in this many moves in a step.
 constexpr std::size_t rebuild_fraction_inverse = 2;
+// Such a step only refits the tree's boxes unless that leaves it this much worse than when last
+// rebuilt (AabbTree::refit_or_rebuild).
+constexpr float refit_growth_allowed = 1.25f;
 // The search for new pairs spreads over the workers in blocks of this many moved bodies, once
 // this many have moved (measured: see fx2d/src/README.md).
 constexpr std::uint32_t moved_bodies_per_block = 64;
@@ -153,7 +156,7 @@ void update_broad_phase(const StepContext& step, BroadPhase& broad, Bodies& bodi
       tree.move_proxy(records[i].proxy, fat);
     }
   }
-  if (rebuild) tree.rebuild();
+  if (rebuild) tree.refit_or_rebuild(refit_growth_allowed);
 
   find_new_pairs(step, broad, records, contacts);
   std::vector<std::uint64_t>& new_pairs = broad.new_pairs;
