@@ -200,6 +200,23 @@ TEST(AabbTree, RefitOrRebuildRebuildsATreeItsBoxesNoLongerFit) {
   expect_queries_match_brute_force(tree, moved, source, 200);
 }
 
+TEST(AabbTree, AMoveItsParentStillEnclosesKeepsTheLeafInPlaceAndQueriesExact) {
+  AabbTree tree;
+  std::vector<Proxy> live = random_edits(tree, 41, 1500, [](const std::vector<Proxy>&) {});
+  const FxAABB everything{{-100.0f, -100.0f}, {100.0f, 100.0f}};
+  const std::vector<int> order = query_all(tree, everything);
+  // Each box shrunk by a quarter of its size on every side: inside its old box, so inside its parent's.
+  for (Proxy& p : live) {
+    const FxVec2f quarter = 0.25f * (p.box.upper - p.box.lower);
+    p.box = {p.box.lower + quarter, p.box.upper - quarter};
+    tree.move_proxy(p.id, p.box);
+  }
+  ASSERT_TRUE(tree.validate());
+  EXPECT_EQ(query_all(tree, everything), order);  // no leaf was reinserted elsewhere
+  BoxSource source(42);
+  expect_queries_match_brute_force(tree, live, source, 200);
+}
+
 TEST(AabbTree, QueryStopsWhenVisitReturnsFalse) {
   AabbTree tree;
   for (int i = 0; i < 10; ++i) tree.create_proxy({{0.0f, 0.0f}, {1.0f, 1.0f}}, std::uint32_t(i));

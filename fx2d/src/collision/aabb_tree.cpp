@@ -64,8 +64,12 @@ void AabbTree::destroy_proxy(int proxy) {
 
 void AabbTree::move_proxy(int proxy, const FxAABB& fat_box) {
   assert(nodes_[proxy].is_leaf() && nodes_[proxy].height == 0);
-  remove_leaf(proxy);
+  const int parent = nodes_[proxy].parent_or_next;
   nodes_[proxy].box = fat_box;
+  // A box its parent still encloses keeps the leaf where it is: every ancestor encloses it too.
+  // The parent's box may then be looser than its children's union until a refit or rebuild.
+  if (parent != null_node && nodes_[parent].box.contains(fat_box)) return;
+  remove_leaf(proxy);
   insert_leaf(proxy);
 }
 
@@ -224,9 +228,9 @@ void AabbTree::remove_leaf(int leaf) {
 }
 
 // Restores balance, height and box of `id` and of each of its ancestors. It stops at the first
-// node that keeps its place, height and box: every ancestor above is then as it was, its box the
-// union of the same boxes and its children's heights unchanged. A leaf moving within its
-// neighbourhood changes only a few levels, not the path to the root.
+// node that keeps its place, height and box: every ancestor above still encloses it and keeps
+// its children's heights. A leaf moving within its neighbourhood changes only a few levels, not
+// the path to the root.
 void AabbTree::refit_upwards(int id) {
   while (id != null_node) {
     const int top = balance(id);

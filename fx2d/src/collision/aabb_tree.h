@@ -24,7 +24,8 @@ class AabbTree {
   // Adds a leaf holding `fat_box` and returns its proxy id (a node index, stable until destroyed).
   int create_proxy(const FxAABB& fat_box, std::uint32_t user_data);
   void destroy_proxy(int proxy);
-  // Replaces the proxy's fat box: the leaf is removed and reinserted.
+  // Replaces the proxy's fat box: the leaf is removed and reinserted, unless its parent's box
+  // still encloses the new one.
   void move_proxy(int proxy, const FxAABB& fat_box);
   // For many proxies at once: replace each one's fat box with set_fat_box(), which leaves the
   // internal boxes stale, then rebuild() the internal nodes from all leaves, top down, each node
