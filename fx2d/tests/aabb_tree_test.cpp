@@ -151,6 +151,72 @@ TEST(AabbTree, RebuildGivesTheSameTreeWhateverTheInsertionHistory) {
   }
 }
 
+// A rebuilt tree that then took a few moves: its shape is its own, not the one a rebuild gives.
+AabbTree rebuilt_then_edited(std::vector<Proxy>& live) {
+  AabbTree tree;
+  live = random_edits(tree, 31, 1500, [](const std::vector<Proxy>&) {});
+  tree.rebuild();
+  BoxSource source(32);
+  for (std::size_t i = 0; i < 40; ++i) {
+    live[i].box = source.box();
+    tree.move_proxy(live[i].id, live[i].box);
+  }
+  return tree;
+}
+
+TEST(AabbTree, RefitOrRebuildKeepsTheShapeWhileItStaysGood) {
+  std::vector<Proxy> live;
+  AabbTree tree = rebuilt_then_edited(live);
+  AabbTree rebuilt = tree;
+  rebuilt.rebuild();
+  BoxSource queries(33);
+  std::vector<FxAABB> boxes;
+  for (int q = 0; q < 50; ++q) boxes.push_back(queries.box());
+  std::vector<std::vector<int>> before, after_rebuild, after;
+  for (const FxAABB& box : boxes) before.push_back(query_all(tree, box));
+  for (const FxAABB& box : boxes) after_rebuild.push_back(query_all(rebuilt, box));
+  // Every leaf set again to the box it had: nothing grew, so the tree only refits, same shape.
+  for (const Proxy& p : live) tree.set_fat_box(p.id, p.box);
+  tree.refit_or_rebuild(1.25f);
+  ASSERT_TRUE(tree.validate());
+  for (const FxAABB& box : boxes) after.push_back(query_all(tree, box));
+  EXPECT_EQ(after, before);
+  EXPECT_NE(after, after_rebuild);  // so a rebuild would have shown
+}
+
+TEST(AabbTree, RefitOrRebuildRebuildsATreeItsBoxesNoLongerFit) {
+  std::vector<Proxy> live;
+  AabbTree tree = rebuilt_then_edited(live);
+  // Each leaf takes another's box: the old shape groups strangers, the refitted boxes swell.
+  std::vector<Proxy> moved = live;
+  for (std::size_t i = 0; i < live.size(); ++i) {
+    moved[i].box = live[(i + 1) % live.size()].box;
+    tree.set_fat_box(moved[i].id, moved[i].box);
+  }
+  tree.refit_or_rebuild(1.25f);
+  ASSERT_TRUE(tree.validate());
+  EXPECT_EQ(tree.height(), std::bit_width(live.size() - 1));  // median splits: rebuilt
+  BoxSource source(34);
+  expect_queries_match_brute_force(tree, moved, source, 200);
+}
+
+TEST(AabbTree, AMoveItsParentStillEnclosesKeepsTheLeafInPlaceAndQueriesExact) {
+  AabbTree tree;
+  std::vector<Proxy> live = random_edits(tree, 41, 1500, [](const std::vector<Proxy>&) {});
+  const FxAABB everything{{-100.0f, -100.0f}, {100.0f, 100.0f}};
+  const std::vector<int> order = query_all(tree, everything);
+  // Each box shrunk by a quarter of its size on every side: inside its old box, so inside its parent's.
+  for (Proxy& p : live) {
+    const FxVec2f quarter = 0.25f * (p.box.upper - p.box.lower);
+    p.box = {p.box.lower + quarter, p.box.upper - quarter};
+    tree.move_proxy(p.id, p.box);
+  }
+  ASSERT_TRUE(tree.validate());
+  EXPECT_EQ(query_all(tree, everything), order);  // no leaf was reinserted elsewhere
+  BoxSource source(42);
+  expect_queries_match_brute_force(tree, live, source, 200);
+}
+
 TEST(AabbTree, QueryStopsWhenVisitReturnsFalse) {
   AabbTree tree;
   for (int i = 0; i < 10; ++i) tree.create_proxy({{0.0f, 0.0f}, {1.0f, 1.0f}}, std::uint32_t(i));

@@ -12,8 +12,9 @@
 // branch-and-bound search found slightly better siblings but visited most of the tree when many
 // fat boxes overlap (3000 boxes falling in step: a third of the engine's instructions). Ties go
 // to the first child, so the same operations build the same tree. rebuild() replaces all internal
-// nodes at once, for steps in which most leaves move: the broad phase sorts the pairs it finds, so
-// no result depends on the tree's shape.
+// nodes at once, for steps in which most leaves move, and refit_or_rebuild() first tries only
+// refitting their boxes: the broad phase sorts the pairs it finds, so no result depends on the
+// tree's shape.
 #include "collision/aabb_tree.h"
 
 
@@ -63,8 +64,12 @@ void AabbTree::destroy_proxy(int proxy) {
 
 void AabbTree::move_proxy(int proxy, const FxAABB& fat_box) {
   assert(nodes_[proxy].is_leaf() && nodes_[proxy].height == 0);
-  remove_leaf(proxy);
+  const int parent = nodes_[proxy].parent_or_next;
   nodes_[proxy].box = fat_box;
+  // A box its parent still encloses keeps the leaf where it is: every ancestor encloses it too.
+  // The parent's box may then be looser than its children's union until a refit or rebuild.
+  if (parent != null_node && nodes_[parent].box.contains(fat_box)) return;
+  remove_leaf(proxy);
   insert_leaf(proxy);
 }
 
@@ -77,24 +82,39 @@ void AabbTree::rebuild() {
   leaves_.clear();
   for (int id = 0; id < int(nodes_.size()); ++id) {
     if (nodes_[id].height == 0) {
-      leaves_.push_back(id);
+      // The doubled centre (exact, and enough to compare and to measure extents), read once
+      // here rather than from the scattered nodes at every comparison of every level.
+      leaves_.push_back({nodes_[id].box.lower + nodes_[id].box.upper, id});
     } else if (nodes_[id].height > 0) {
       free_node(id);
     }
   }
   root_ = leaves_.empty() ? null_node : build_subtree(0, int(leaves_.size()));
   if (root_ != null_node) nodes_[root_].parent_or_next = null_node;
+  built_area_ratio_ = area_ratio();
+}
+
+void AabbTree::refit_or_rebuild(float allowed_growth) {
+  if (root_ == null_node || nodes_[root_].is_leaf()) return;
+  const float internal_perimeters = refit_subtree(root_);
+  if (internal_perimeters > allowed_growth * built_area_ratio_ * nodes_[root_].box.perimeter()) rebuild();
+}
+
+// Recomputes the boxes of the internal nodes below and at `id`, children first, and returns the
+// sum of their perimeters. The recursion is as deep as the tree, which rotations keep shallow.
+float AabbTree::refit_subtree(int id) {
+  Node& node = nodes_[id];
+  if (node.is_leaf()) return 0.0f;
+  const float below = refit_subtree(node.child1) + refit_subtree(node.child2);
+  node.box = union_of(nodes_[node.child1].box, nodes_[node.child2].box);
+  return below + node.box.perimeter();
 }
 
 namespace {
 
-// A box's centre, doubled (exact, and enough to compare and to measure extents).
-FxVec2f doubled_centre(const FxAABB& box) { return box.lower + box.upper; }
-
 // The doubled centre along one axis; NaN sorts last so that the order stays total.
-float centre_key(const FxAABB& box, bool along_x) {
-  const FxVec2f centre = doubled_centre(box);
-  const float key = along_x ? centre.x : centre.y;
+float centre_key(FxVec2f doubled_centre, bool along_x) {
+  const float key = along_x ? doubled_centre.x : doubled_centre.y;
   return key == key ? key : std::numeric_limits<float>::infinity();
 }
 
@@ -104,20 +124,21 @@ float centre_key(const FxAABB& box, bool along_x) {
 // Leaves are ordered by centre, then by id, a total order: each half is the same set whatever
 // order the leaves arrived in, so the same boxes build the same tree.
 int AabbTree::build_subtree(int first, int last) {
-  if (last - first == 1) return leaves_[first];
+  if (last - first == 1) return leaves_[first].id;
   FxVec2f lowest{std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
   FxVec2f highest = -lowest;
   for (int i = first; i < last; ++i) {
-    const FxVec2f centre = doubled_centre(nodes_[leaves_[i]].box);
-    lowest = min(lowest, centre);
-    highest = max(highest, centre);
+    lowest = min(lowest, leaves_[i].doubled_centre);
+    highest = max(highest, leaves_[i].doubled_centre);
   }
   const bool along_x = highest.x - lowest.x >= highest.y - lowest.y;
   const int middle = first + (last - first) / 2;
-  std::nth_element(leaves_.begin() + first, leaves_.begin() + middle, leaves_.begin() + last, [&](int a, int b) {
-    const float key_a = centre_key(nodes_[a].box, along_x), key_b = centre_key(nodes_[b].box, along_x);
-    return key_a < key_b || (key_a == key_b && a < b);
-  });
+  std::nth_element(leaves_.begin() + first, leaves_.begin() + middle, leaves_.begin() + last,
+                   [along_x](const LeafCentre& a, const LeafCentre& b) {
+                     const float key_a = centre_key(a.doubled_centre, along_x);
+                     const float key_b = centre_key(b.doubled_centre, along_x);
+                     return key_a < key_b || (key_a == key_b && a.id < b.id);
+                   });
   const int child1 = build_subtree(first, middle);
   const int child2 = build_subtree(middle, last);
   const int parent = allocate_node();
@@ -206,13 +227,20 @@ void AabbTree::remove_leaf(int leaf) {
   refit_upwards(grandparent);
 }
 
-// Restores balance, height and box of `id` and of each of its ancestors.
+// Restores balance, height and box of `id` and of each of its ancestors. It stops at the first
+// node that keeps its place, height and box: every ancestor above still encloses it and keeps
+// its children's heights. A leaf moving within its neighbourhood changes only a few levels, not
+// the path to the root.
 void AabbTree::refit_upwards(int id) {
   while (id != null_node) {
-    id = balance(id);
-    Node& node = nodes_[id];
-    node.height = 1 + std::max(nodes_[node.child1].height, nodes_[node.child2].height);
-    node.box = union_of(nodes_[node.child1].box, nodes_[node.child2].box);
+    const int top = balance(id);
+    Node& node = nodes_[top];
+    const int height = 1 + std::max(nodes_[node.child1].height, nodes_[node.child2].height);
+    const FxAABB box = union_of(nodes_[node.child1].box, nodes_[node.child2].box);
+    const bool unchanged = top == id && height == node.height && box.lower == node.box.lower && box.upper == node.box.upper;
+    node.height = height;
+    node.box = box;
+    if (unchanged) return;
     id = node.parent_or_next;
   }
 }

@@ -24,7 +24,8 @@ class AabbTree {
   // Adds a leaf holding `fat_box` and returns its proxy id (a node index, stable until destroyed).
   int create_proxy(const FxAABB& fat_box, std::uint32_t user_data);
   void destroy_proxy(int proxy);
-  // Replaces the proxy's fat box: the leaf is removed and reinserted.
+  // Replaces the proxy's fat box: the leaf is removed and reinserted, unless its parent's box
+  // still encloses the new one.
   void move_proxy(int proxy, const FxAABB& fat_box);
   // For many proxies at once: replace each one's fat box with set_fat_box(), which leaves the
   // internal boxes stale, then rebuild() the internal nodes from all leaves, top down, each node
@@ -33,6 +34,11 @@ class AabbTree {
   // stay valid; no query or edit may come between the two.
   void set_fat_box(int proxy, const FxAABB& fat_box);
   void rebuild();
+  // In place of rebuild(), after set_fat_box(): first only refits the internal boxes over the
+  // present shape, one pass over the nodes, and rebuilds only when the refitted tree's
+  // area_ratio() grew past `allowed_growth` times the one it had when last rebuilt. Bodies
+  // falling together keep their neighbours, and the tree built for them stays good.
+  void refit_or_rebuild(float allowed_growth);
 
   const FxAABB& fat_box(int proxy) const { return nodes_[proxy].box; }
   std::uint32_t user_data(int proxy) const { return nodes_[proxy].user_data; }
@@ -83,22 +89,25 @@ class AabbTree {
   int balance(int id);
   int rotate_up(int top, int tall);
   int build_subtree(int first, int last);
+  float refit_subtree(int id);
 
   static constexpr int local_stack_size = 128;
+  // A node is pushed only when its box overlaps, tested as its parent opens: a child that misses
+  // costs no trip through the stack.
   template <class Visit>
   void walk(const FxAABB& box, int* stack, Visit& visit) const {
+    if (!overlaps(nodes_[root_].box, box)) return;
     int size = 0;
     stack[size++] = root_;
     while (size > 0) {
       const int id = stack[--size];
       const Node& node = nodes_[id];
-      if (!overlaps(node.box, box)) continue;
       if (node.is_leaf()) {
         if (!visit(id)) return;
-      } else {
-        stack[size++] = node.child1;
-        stack[size++] = node.child2;
+        continue;
       }
+      if (overlaps(nodes_[node.child1].box, box)) stack[size++] = node.child1;
+      if (overlaps(nodes_[node.child2].box, box)) stack[size++] = node.child2;
     }
   }
 
@@ -106,7 +115,12 @@ class AabbTree {
   int root_ = null_node;
   int free_list_ = null_node;
   int proxy_count_ = 0;
-  std::vector<int> leaves_;  // rebuild()'s scratch
+  float built_area_ratio_ = 0.0f;  // area_ratio() just after the last rebuild()
+  struct LeafCentre {
+    FxVec2f doubled_centre;  // lower + upper of the leaf's box
+    int id;
+  };
+  std::vector<LeafCentre> leaves_;  // rebuild()'s scratch
 };
 
 }  // namespace fx2d::detail

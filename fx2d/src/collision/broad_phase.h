@@ -17,6 +17,9 @@ struct StepContext;
 struct BroadPhase {
   AabbTree tree;
   std::vector<std::uint32_t> body_of_proxy;  // proxy id -> packed index
+  // proxy id -> 1 while its body's `moved` is set, during the search: read per leaf a query
+  // visits, where the body's record would be a cache miss.
+  std::vector<std::uint8_t> proxy_moved;
   // Pairs (a << 32 | b, a < b) joined by a constraint, sorted: they never collide.
   std::vector<std::uint64_t> jointed_pairs;
   bool jointed_pairs_dirty = false;
