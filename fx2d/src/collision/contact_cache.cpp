@@ -1,5 +1,4 @@
-// The contact cache's slots, free list and per-body edge lists (contact_cache.h), and the carrying
-// of impulses from one manifold to the next by feature id.
+// The contact cache's slots, free list and per-body edge lists (contact_cache.h).
 #include "collision/contact_cache.h"
 
 namespace fx2d::detail {
@@ -38,33 +37,6 @@ bool ContactCache::has_pair(int head, std::uint32_t other) const {
     if (other_body(edge) == other) return true;
   }
   return false;
-}
-
-void ContactCache::replace_manifold(CachedContact& contact, const Manifold& manifold) {
-  float normal_impulse[2] = {0.0f, 0.0f};
-  float tangent_impulse[2] = {0.0f, 0.0f};
-  for (int i = 0; i < manifold.point_count; ++i) {
-    for (int j = 0; j < contact.manifold.point_count; ++j) {
-      if (contact.manifold.points[j].id == manifold.points[i].id) {
-        normal_impulse[i] = contact.normal_impulse[j];
-        tangent_impulse[i] = contact.tangent_impulse[j];
-        break;
-      }
-    }
-  }
-  contact.manifold = manifold;
-  for (int i = 0; i < 2; ++i) {
-    contact.normal_impulse[i] = normal_impulse[i];
-    contact.tangent_impulse[i] = tangent_impulse[i];
-  }
-}
-
-bool ContactCache::update_touching(CachedContact& contact) {
-  const bool touching = contact.manifold.point_count > 0;
-  const bool began = touching && !contact.touching;
-  if (touching != contact.touching) touching_count += touching ? 1 : -1;
-  contact.touching = touching;
-  return began;
 }
 
 void ContactCache::link(int edge, int& head) {

@@ -19,28 +19,30 @@ namespace fx2d::detail {
 // has barely moved since (narrow_phase.cpp): B's placement and the normal in A's frame, and each
 // point's two surface points in its own body's frame.
 struct ManifoldFrame {
+  bool valid = false;  // first, beside the fields every pair reads
   FxTransform b_in_a;
   FxVec2f normal_in_a;
   FxVec2f on_a[2];
   FxVec2f on_b[2];
-  bool valid = false;
 };
 
+// What every step reads of every pair (ids, flags, manifold, impulses, material) comes first, in
+// the record's first two cache lines; the frame only resting polygon pairs read comes last.
 struct CachedContact {
   std::uint32_t body_a = 0;
   std::uint32_t body_b = 0;
+  bool alive = false;
+  bool touching = false;
   int next_edge[2] = {-1, -1};
   int prev_edge[2] = {-1, -1};
   Manifold manifold;
-  ManifoldFrame frame;
   float normal_impulse[2] = {0.0f, 0.0f};
   float tangent_impulse[2] = {0.0f, 0.0f};
   // Material resolved once per pair.
   float static_friction = 0.0f;
   float dynamic_friction = 0.0f;
   float restitution = 0.0f;
-  bool touching = false;
-  bool alive = false;
+  ManifoldFrame frame;
 };
 
 class ContactCache {
@@ -53,10 +55,34 @@ class ContactCache {
   bool has_pair(int head, std::uint32_t other) const;
 
   // Replaces a record's manifold, carrying impulses over from points with the same feature id.
-  // Touches that record alone, so records may be replaced on several threads at once.
-  static void replace_manifold(CachedContact& contact, const Manifold& manifold);
+  // Touches that record alone, so records may be replaced on several threads at once. Inline, as
+  // update_touching(): the narrow phase calls both for every pair every step.
+  static void replace_manifold(CachedContact& contact, const Manifold& manifold) {
+    float normal_impulse[2] = {0.0f, 0.0f};
+    float tangent_impulse[2] = {0.0f, 0.0f};
+    for (int i = 0; i < manifold.point_count; ++i) {
+      for (int j = 0; j < contact.manifold.point_count; ++j) {
+        if (contact.manifold.points[j].id == manifold.points[i].id) {
+          normal_impulse[i] = contact.normal_impulse[j];
+          tangent_impulse[i] = contact.tangent_impulse[j];
+          break;
+        }
+      }
+    }
+    contact.manifold = manifold;
+    for (int i = 0; i < 2; ++i) {
+      contact.normal_impulse[i] = normal_impulse[i];
+      contact.tangent_impulse[i] = tangent_impulse[i];
+    }
+  }
   // Sets `touching` from the record's manifold and keeps touching_count; true if it began touching.
-  bool update_touching(CachedContact& contact);
+  bool update_touching(CachedContact& contact) {
+    const bool touching = contact.manifold.point_count > 0;
+    const bool began = touching && !contact.touching;
+    if (touching != contact.touching) touching_count += touching ? 1 : -1;
+    contact.touching = touching;
+    return began;
+  }
 
   static int contact_of(int edge) { return edge >> 1; }
   static int side_of(int edge) { return edge & 1; }

@@ -30,12 +30,6 @@ bool any_point_within(const Manifold& manifold, float distance) {
   return false;
 }
 
-// Empties the manifold when no point is within `distance`, else keeps every point: both ends of a
-// polygon's clipped edge, the far one for a body struck or set turning within the step (collide.cpp).
-void keep_if_any_point_within(Manifold& manifold, float distance) {
-  if (!any_point_within(manifold, distance)) manifold.point_count = 0;
-}
-
 // A polygon pair whose shapes moved less than this relative to each other since its last full
 // collision keeps that collision's features and has only its separations measured afresh. A point
 // the full collision left out was at least base_speculative_distance apart, so none can come into
@@ -80,18 +74,21 @@ Manifold moved_manifold(const ManifoldFrame& frame, const Manifold& previous, co
   return manifold;
 }
 
-}  // namespace
+// How fast two bodies could close within the step, for their speculative margin.
+struct PairMotion {
+  FxVec2f velocity_a, velocity_b;
+  float spin_speed;  // what the spins add at the shapes' extents
+  float fastest_closing() const;                 // along any direction
+  float closing_along(FxVec2f normal) const;     // along `normal`, from A towards B
+};
 
 // Along a normal n from A to B, a pair closes at up to its relative speed, or at A's or B's own
 // speed towards the other: either may stop against a third body mid-step while the other keeps
 // going. A column falling in unison has no relative speed, yet its lowest body lands first and
 // the next one closes on it at full speed. Spins add their speed at the shapes' extents.
-PairMotion pair_motion(const Bodies& bodies, std::uint32_t a, std::uint32_t b) {
-  const BodySim& sa = bodies.sims[a];
-  const BodySim& sb = bodies.sims[b];
+PairMotion pair_motion(const BodySim& sa, const BodySim& sb, const FxShape& shape_a, const FxShape& shape_b) {
   return {sa.linear_velocity, sb.linear_velocity,
-          std::fabs(sa.angular_velocity) * bodies.records[a].shape.extent() +
-              std::fabs(sb.angular_velocity) * bodies.records[b].shape.extent()};
+          std::fabs(sa.angular_velocity) * shape_a.extent() + std::fabs(sb.angular_velocity) * shape_b.extent()};
 }
 
 float PairMotion::fastest_closing() const {
@@ -106,7 +103,13 @@ float PairMotion::closing_along(FxVec2f normal) const {
   return std::max({length(velocity_b - velocity_a), dot(velocity_a, normal), -dot(velocity_b, normal)}) + spin_speed;
 }
 
-namespace {
+// True when a point of `manifold` lies within the speculative margin of the pair's closing speed
+// along its normal. That margin is never below base_speculative_distance, so a point within the
+// base, as every resting contact is, answers without the closing speed and its square root.
+bool any_point_within_margin(const Manifold& manifold, float dt, const PairMotion& motion) {
+  return any_point_within(manifold, base_speculative_distance) ||
+         any_point_within(manifold, speculative_distance(dt, motion.closing_along(manifold.normal)));
+}
 
 // Pairs per range of the parallel collision, and the fewest pairs worth waking the workers for:
 // on a quiet machine two workers took 0.66 of one's collide stage from pile 300 up (fx2d/src/README.md).
@@ -128,13 +131,13 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
   const BodySim& sb = bodies.sims[b];
   const FxTransform xf_a{{}, sa.rotation};
   const FxTransform xf_b{bodies.origin_offset(a, b), sb.rotation};
-  const PairMotion motion = pair_motion(bodies, a, b);
+  const PairMotion motion = pair_motion(sa, sb, ra.shape, rb.shape);
   const float dt = step.settings.dt;
   // Resting polygons, the common case in a stack or a settled heap, skip the separating-axis search
   // and the clip while a point stays within the speculative margin.
   if (contact.frame.valid && barely_moved(contact.frame, inv_mul(xf_a, xf_b), rb.shape)) {
     const Manifold moved = moved_manifold(contact.frame, contact.manifold, xf_a, xf_b);
-    if (any_point_within(moved, speculative_distance(dt, motion.closing_along(moved.normal)))) {
+    if (any_point_within_margin(moved, dt, motion)) {
       contact.manifold = moved;  // the same features: every point keeps its impulses
       return PairUpdate::collided;
     }
@@ -143,9 +146,9 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
   Manifold manifold;
   collide(ra.shape, xf_a, rb.shape, xf_b, speculative_distance(dt, motion.fastest_closing()),
           contact.manifold.separating_face, manifold);
-  if (manifold.point_count > 0) {
-    keep_if_any_point_within(manifold, speculative_distance(dt, motion.closing_along(manifold.normal)));
-  }
+  // Every point is kept while any is within the margin: both ends of a polygon's clipped edge, the
+  // far one for a body struck or set turning within the step (collide.cpp).
+  if (manifold.point_count > 0 && !any_point_within_margin(manifold, dt, motion)) manifold.point_count = 0;
   ContactCache::replace_manifold(contact, manifold);
   const bool polygons = ra.shape.type() == FxShapeType::polygon && rb.shape.type() == FxShapeType::polygon;
   contact.frame.valid = false;

@@ -12,16 +12,6 @@ namespace fx2d::detail {
 
 struct StepContext;
 
-// How fast two bodies could close within the step, for their speculative margin.
-struct PairMotion {
-  FxVec2f velocity_a, velocity_b;
-  float spin_speed;  // what the spins add at the shapes' extents
-  float fastest_closing() const;                 // along any direction
-  float closing_along(FxVec2f normal) const;     // along `normal`, from A towards B
-};
-
-PairMotion pair_motion(const Bodies& bodies, std::uint32_t a, std::uint32_t b);
-
 // What the parallel collision of one pair left for the serial pass to do, per contact slot.
 enum class PairUpdate : std::uint8_t { skipped, separated, collided };
 
