@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "world/speed_limits.h"
 #include "world/step_context.h"
 #include "collision/time_of_impact.h"
 
@@ -51,9 +52,10 @@ class FastBodyPass {
  public:
   // A fast body stops `gap` short of touching, so that the next step's contact has room to act.
   // `others_motion` bounds how far any body it is swept against moved this step.
-  FastBodyPass(float gap, float others_motion, std::span<FxBodyState> states, Bodies& bodies, const BroadPhase& broad,
-               bool bullets)
-      : gap_(gap), others_motion_(others_motion), states_(states), bodies_(bodies), broad_(broad), bullets_(bullets) {}
+  FastBodyPass(float gap, float others_motion, float max_speed, std::span<FxBodyState> states, Bodies& bodies,
+               const BroadPhase& broad, bool bullets)
+      : gap_(gap), others_motion_(others_motion), max_speed_(max_speed), states_(states), bodies_(bodies), broad_(broad),
+        bullets_(bullets) {}
 
   void advance(std::uint32_t body) {
     const Sweep sweep = sweep_of(bodies_, states_, body, FxVec2f{});
@@ -128,15 +130,18 @@ class FastBodyPass {
   // the normal where the sweep stopped it. The contact left that approach (a first impact's is the
   // next step's contact to answer, with spin and momentum to share); kept, it would stop a body that
   // turns about the point it touches early in every step (its sweep takes the centre on a straight
-  // line, not on the arc about that point), and the body would never move on.
+  // line, not on the arc about that point), and the body would never move on. Matching a moving
+  // body's speed along the normal can make it faster than the scene's limit (a body at the limit
+  // overtaken by a kinematic wall), so the result is held to it like every other velocity.
   void stop_approach(std::uint32_t body, std::uint32_t other, FxVec2f normal) {
     FxVec2f& velocity = bodies_.sims[body].linear_velocity;
     const float approach = dot(velocity - bodies_.sims[other].linear_velocity, normal);
-    if (approach > 0.0f) velocity -= approach * normal;
+    if (approach > 0.0f) velocity = limited_speed(velocity - approach * normal, max_speed_);
   }
 
   float gap_;
   float others_motion_;
+  float max_speed_;
   std::span<FxBodyState> states_;
   Bodies& bodies_;
   const BroadPhase& broad_;
@@ -180,8 +185,8 @@ void solve_continuous(const StepContext& step, ContinuousScratch& scratch, std::
   for (const bool bullets : {false, true}) {
     const auto in_pass = [&](std::uint32_t body) { return bodies.records[body].bullet == bullets; };
     if (std::none_of(fast.begin(), fast.end(), in_pass)) continue;
-    FastBodyPass pass(step.settings.linear_slop, others_motion(states, moving, bodies, bullets), states, bodies, broad,
-                      bullets);
+    FastBodyPass pass(step.settings.linear_slop, others_motion(states, moving, bodies, bullets), step.limits.max_speed,
+                      states, bodies, broad, bullets);
     // A fast body moves only itself, and is swept only against bodies its pass never moves (not
     // dynamic in the first pass, not bullets in the second), so a pass's bodies advance on any
     // thread in any order.
