@@ -24,8 +24,15 @@ FxVec2f slowed_to(FxVec2f v, float max_speed) {
 namespace {
 
 // The rare lanes the vectorised limit did not cover: faster than max_speed, overflowed or NaN.
+// One vector test for the whole group first, so the usual group, with none, skips the eight
+// scalar compare-and-branches.
 [[gnu::always_inline]] inline void slow_fast_lanes(float* vx, float* vy, const float* speed_squared, float max_speed) {
   const float max_speed_squared = max_speed * max_speed;
+  int fast_lanes = 0;
+  // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
+#pragma GCC unroll 1
+  for (int lane = 0; lane < lane_count; ++lane) fast_lanes |= !(speed_squared[lane] <= max_speed_squared);  // NaN too
+  if (fast_lanes == 0) return;
   for (int lane = 0; lane < lane_count; ++lane) {
     if (speed_squared[lane] <= max_speed_squared) continue;  // also false for NaN
     const FxVec2f slowed = slowed_to({vx[lane], vy[lane]}, max_speed);
