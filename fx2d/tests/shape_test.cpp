@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -245,6 +247,40 @@ TEST(Bounds, RotatedBoxAabbHasProjectedHalfExtents) {
   EXPECT_NEAR(aabb.upper.x, 2.0f + extent_x, 1.0e-6f);
   EXPECT_NEAR(aabb.lower.y, 3.0f - extent_y, 1.0e-6f);
   EXPECT_NEAR(aabb.upper.y, 3.0f + extent_y, 1.0e-6f);
+}
+
+// The bounds of each vertex placed by transform_point(), the engine's own arithmetic for a point.
+FxAABB bounds_of_placed_vertices(const FxShape& shape, const FxTransform& xf) {
+  FxAABB box{transform_point(xf, shape.vertices()[0]), transform_point(xf, shape.vertices()[0])};
+  for (FxVec2f v : shape.vertices()) box = union_of(box, {transform_point(xf, v), transform_point(xf, v)});
+  return box;
+}
+
+std::array<std::uint32_t, 4> bits_of(const FxAABB& box) {
+  return {std::bit_cast<std::uint32_t>(box.lower.x), std::bit_cast<std::uint32_t>(box.lower.y),
+          std::bit_cast<std::uint32_t>(box.upper.x), std::bit_cast<std::uint32_t>(box.upper.y)};
+}
+
+// compute_aabb() bounds a centred box in closed form and adds a polygon's translation once: both
+// must give, to the bit, the bounds of the vertices placed one by one (the state hashes rest on it).
+TEST(Bounds, AabbBitsEqualThoseOfTheVerticesPlacedOneByOne) {
+  const std::array<FxVec2f, 5> pentagon{{{0.3f, -0.7f}, {1.1f, 0.1f}, {0.4f, 0.9f}, {-0.6f, 0.5f}, {-0.7f, -0.4f}}};
+  const std::array<FxVec2f, 4> clockwise_box{{{-0.3f, 0.7f}, {0.3f, 0.7f}, {0.3f, -0.7f}, {-0.3f, -0.7f}}};
+  const std::array<FxShape, 5> shapes{FxShape::box(0.5f, 0.25f), FxShape::box(1.0e-2f, 3.0f), FxShape::polygon(clockwise_box),
+                                      FxShape::box(0.5f, 0.25f, {0.1f, 0.0f}), FxShape::polygon(pentagon)};
+  const std::array<FxVec2f, 5> origins{{{0.0f, 0.0f}, {-0.0f, -0.0f}, {0.5f, -0.25f}, {3.7f, -12.1f}, {-1.0e6f, 7.0e5f}}};
+  const std::array<FxRot, 4> exact_turns{{{1.0f, 0.0f}, {-0.0f, 1.0f}, {-1.0f, -0.0f}, {0.0f, -1.0f}}};
+  for (const FxShape& shape : shapes) {
+    for (FxVec2f origin : origins) {
+      for (int step = 0; step < 720; ++step) {
+        const FxRot turn = step < 4 ? exact_turns[step] : FxRot::from_angle(0.00873f * float(step) - 3.1f);
+        const FxTransform xf{origin, turn};
+        FxAABB aabb;
+        shape.compute_aabb(xf, aabb);
+        ASSERT_EQ(bits_of(aabb), bits_of(bounds_of_placed_vertices(shape, xf))) << "step " << step;
+      }
+    }
+  }
 }
 
 TEST(Bounds, CircleAabbIsCentreOffsetByRadius) {

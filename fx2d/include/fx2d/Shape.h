@@ -70,6 +70,9 @@ class FxShape {
 
  private:
   FxShapeType type_ = FxShapeType::circle;
+  // A polygon whose vertices are (+-a, +-b) exactly, as FxShape::box makes with no centre or
+  // angle: compute_aabb() bounds it in closed form, to the bit what its corners give.
+  bool centred_box_ = false;
   int vertex_count_ = 0;
   float radius_ = 0.0f;
   float extent_ = 0.0f;

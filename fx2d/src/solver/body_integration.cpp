@@ -24,13 +24,21 @@ FxVec2f slowed_to(FxVec2f v, float max_speed) {
 namespace {
 
 // The rare lanes the vectorised limit did not cover: faster than max_speed, overflowed or NaN.
-[[gnu::always_inline]] inline void slow_fast_lanes(float* vx, float* vy, const float* speed_squared, float max_speed) {
+// One vector test for the whole group first, so the usual group, with none, skips the eight
+// scalar compare-and-branches. Returns whether it slowed any lane.
+[[gnu::always_inline]] inline bool slow_fast_lanes(float* vx, float* vy, const float* speed_squared, float max_speed) {
   const float max_speed_squared = max_speed * max_speed;
+  int fast_lanes = 0;
+  // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
+#pragma GCC unroll 1
+  for (int lane = 0; lane < lane_count; ++lane) fast_lanes |= !(speed_squared[lane] <= max_speed_squared);  // NaN too
+  if (fast_lanes == 0) return false;
   for (int lane = 0; lane < lane_count; ++lane) {
     if (speed_squared[lane] <= max_speed_squared) continue;  // also false for NaN
     const FxVec2f slowed = slowed_to({vx[lane], vy[lane]}, max_speed);
     vx[lane] = slowed.x, vy[lane] = slowed.y;
   }
+  return true;
 }
 
 // v <- linear_factor * (v + h * acceleration), with its squared speed for slow_fast_lanes();
@@ -78,13 +86,16 @@ FX2D_LANE_KERNEL void integrate_position_groups(const std::uint32_t* body, std::
     gather_columns<pose_row>(states, body + first, pose);
     alignas(32) float vx[lane_count], vy[lane_count], w[lane_count], speed_squared[lane_count];
     to_lanes(velocity.c0, vx), to_lanes(velocity.c1, vy), to_lanes(velocity.c2, w);
+    int spinning_too_fast = 0;  // limited_spin() changes exactly a spin beyond +-max_spin, or NaN
     // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
 #pragma GCC unroll 1
     for (int lane = 0; lane < lane_count; ++lane) {
       speed_squared[lane] = vx[lane] * vx[lane] + vy[lane] * vy[lane];
+      spinning_too_fast |= !(std::fabs(w[lane]) <= limits.max_spin);
       w[lane] = limited_spin(w[lane], limits.max_spin);
     }
-    slow_fast_lanes(vx, vy, speed_squared, limits.max_speed);
+    // Velocities the limits left alone are already in the states: not written back.
+    const bool limited = slow_fast_lanes(vx, vy, speed_squared, limits.max_speed) || spinning_too_fast != 0;
     alignas(32) float dpx[lane_count], dpy[lane_count], qc[lane_count], qs[lane_count];
     to_lanes(pose.c0, dpx), to_lanes(pose.c1, dpy), to_lanes(pose.c2, qc), to_lanes(pose.c3, qs);
     // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
@@ -95,9 +106,11 @@ FX2D_LANE_KERNEL void integrate_position_groups(const std::uint32_t* body, std::
       const FxRot q = integrate_rotation({qc[lane], qs[lane]}, h * w[lane]);
       qc[lane] = q.c, qs[lane] = q.s;
     }
-    from_lanes(vx, velocity.c0), from_lanes(vy, velocity.c1), from_lanes(w, velocity.c2);
+    if (limited) {
+      from_lanes(vx, velocity.c0), from_lanes(vy, velocity.c1), from_lanes(w, velocity.c2);
+      scatter_columns<velocity_row>(states, body + first, velocity);
+    }
     from_lanes(dpx, pose.c0), from_lanes(dpy, pose.c1), from_lanes(qc, pose.c2), from_lanes(qs, pose.c3);
-    scatter_columns<velocity_row>(states, body + first, velocity);
     scatter_columns<pose_row>(states, body + first, pose);
   }
 }

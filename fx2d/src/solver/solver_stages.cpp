@@ -72,7 +72,8 @@ void update_rest(const FxSceneSettings& settings, const BodySim& sim, BodyRecord
 
 // Writes one body's pose and velocity back with carries, and refreshes its sleep time.
 // Touches that body's records alone, so bodies are finalized on several threads at once.
-void finalize_body(const FxSceneSettings& settings, const FxBodyState& state, BodySim& sim, BodyRecord& record) {
+// The limits come from the step (worked out once, not per body: the angular one divides).
+void finalize_body(const StepContext& step, const FxBodyState& state, BodySim& sim, BodyRecord& record) {
   const FxRot start = sim.rotation;
   FxRot end = mul(state.delta_rotation, start);
   const float norm = std::sqrt(end.c * end.c + end.s * end.s);
@@ -83,10 +84,10 @@ void finalize_body(const FxSceneSettings& settings, const FxBodyState& state, Bo
   sim.rotation = end;
   sim.linear_velocity = state.linear_velocity;
   sim.angular_velocity = state.angular_velocity;
-  clamp_velocity(settings, sim);
+  clamp_velocity(step.limits, sim);
   sim.force = {};
 
-  update_rest(settings, sim, record);
+  update_rest(step.settings, sim, record);
 }
 
 // Refreshes the box of a body finalize_body() has written. compute_aabb() reads its transform
@@ -255,7 +256,7 @@ void finalize_bodies(const StepContext& step, const SolverData& solver, Bodies& 
                             [&](std::uint32_t first, std::uint32_t last) {
                               const std::span<const std::uint32_t> block = moving.subspan(first, last - first);
                               for (const std::uint32_t i : block) {
-                                finalize_body(step.settings, solver.states[i], bodies.sims[i], bodies.records[i]);
+                                finalize_body(step, solver.states[i], bodies.sims[i], bodies.records[i]);
                               }
                               for (const std::uint32_t i : block) refresh_box(bodies.sims[i], bodies.records[i], broad);
                             });

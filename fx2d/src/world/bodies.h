@@ -89,10 +89,14 @@ using Constraints = std::vector<std::shared_ptr<FxConstraint>>;
 // Positions beyond this (metres) are refused: float spacing there is already a metre.
 inline constexpr float max_coordinate = 1.0e7f;
 
+// Clamps a body's velocity to the speed limits.
+inline void clamp_velocity(SpeedLimits limits, BodySim& sim) {
+  sim.linear_velocity = limited_speed(sim.linear_velocity, limits.max_speed);
+  sim.angular_velocity = limited_spin(sim.angular_velocity, limits.max_spin);
+}
 // Clamps a body's velocity to the scene's linear and angular speed limits.
 inline void clamp_velocity(const FxSceneSettings& settings, BodySim& sim) {
-  sim.linear_velocity = limited_speed(sim.linear_velocity, settings.max_linear_speed);
-  sim.angular_velocity = limited_spin(sim.angular_velocity, max_angular_speed(settings));
+  clamp_velocity(SpeedLimits{settings.max_linear_speed, max_angular_speed(settings)}, sim);
 }
 
 }  // namespace fx2d::detail

@@ -165,6 +165,16 @@ Outline validated_outline(const char* factory, std::span<const FxVec2f> input) {
   return outline;
 }
 
+// Four vertices (+-a, +-b): distinct, they are the four corners of a box centred on the origin.
+bool is_centred_box(const Outline& outline) {
+  if (outline.count != 4) return false;
+  const FxVec2f corner = outline.vertices[0];
+  for (FxVec2f v : outline.points()) {
+    if (std::fabs(v.x) != std::fabs(corner.x) || std::fabs(v.y) != std::fabs(corner.y)) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 FxShape FxShape::circle(float radius, FxVec2f center) {
@@ -199,6 +209,7 @@ FxShape FxShape::polygon(std::span<const FxVec2f> input) {
   FxShape shape;
   shape.type_ = FxShapeType::polygon;
   shape.vertex_count_ = outline.count;
+  shape.centred_box_ = is_centred_box(outline);
   for (int i = 0; i < outline.count; ++i) {
     shape.vertices_[i] = outline.vertices[i];
     shape.normals_[i] = outward_normal(outline.vertices[(i + 1) % outline.count] - outline.vertices[i]);
@@ -241,12 +252,27 @@ void FxShape::compute_aabb(const FxTransform& xf, FxAABB& out) const {
     out.upper = {center.x + radius_, center.y + radius_};
     return;
   }
-  out.lower = out.upper = transform_point(xf, vertices_[0]);
-  for (int i = 1; i < vertex_count_; ++i) {
-    const FxVec2f v = transform_point(xf, vertices_[i]);
-    out.lower = min(out.lower, v);
-    out.upper = max(out.upper, v);
+  // Rounding is monotonic, so the translation added to the extreme rotated vertex gives the bits
+  // the extreme transformed vertex would (and a -0 sum needs a -0 vertex, the least one alone).
+  if (centred_box_) {
+    // The corners rotate to (+-C +-S, +-S' +-C'), each product rounded alike up to its sign; the
+    // farthest along an axis is |C| + |S|, rounded once as that corner's own sum.
+    const float a = std::fabs(vertices_[0].x);
+    const float b = std::fabs(vertices_[0].y);
+    const FxVec2f reach{std::fabs(xf.q.c * a) + std::fabs(xf.q.s * b), std::fabs(xf.q.s * a) + std::fabs(xf.q.c * b)};
+    out.lower = xf.p - reach;
+    out.upper = xf.p + reach;
+    return;
   }
+  FxVec2f lower = rotate(xf.q, vertices_[0]);
+  FxVec2f upper = lower;
+  for (int i = 1; i < vertex_count_; ++i) {
+    const FxVec2f v = rotate(xf.q, vertices_[i]);
+    lower = min(lower, v);
+    upper = max(upper, v);
+  }
+  out.lower = lower + xf.p;
+  out.upper = upper + xf.p;
 }
 
 }  // namespace fx2d
