@@ -25,9 +25,7 @@ class ContactGraph {
   static constexpr int overflow = max_colours;
 
   // A body is movable when its state carries movable_flag (prepare_solver sets it on the awake
-  // dynamic bodies); the solver never changes any other body's state. The colours depend on
-  // nothing else, so when the constraints and their bodies' movability are those of the last
-  // build, that build's colours stand (the usual step of a scene at rest).
+  // dynamic bodies); the solver never changes any other body's state.
   void build(std::span<const ConstraintSource> constraints, std::span<const FxBodyState> states);
 
   // Grows storage for this many constraints and bodies, so build() does not allocate up to there.
@@ -41,13 +39,6 @@ class ContactGraph {
 
  private:
   static_assert(max_colours < 32, "a body's colours are a 32-bit set");
-  // Whether the constraints and their bodies' movability are those of the last build.
-  bool same_as_last(std::span<const ConstraintSource> constraints, std::span<const FxBodyState> states) const;
-  void colour(std::span<const ConstraintSource> constraints, std::span<const FxBodyState> states);
-
-  // The last build's constraints, and per constraint whether body a (bit 0) and b (bit 1) moved.
-  std::vector<ConstraintSource> last_constraints_;
-  std::vector<std::uint8_t> last_movable_;
   std::vector<std::uint32_t> colours_of_;  // per body, the colours that hold it
   std::vector<std::uint8_t> group_of_;  // per constraint, its colour's group for its point count
   static constexpr int groups = 2 * (max_colours + 1);  // per colour and the overflow, per point count
