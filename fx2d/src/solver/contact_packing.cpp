@@ -1,8 +1,10 @@
 // Building the step's contact constraints into the batches' columns (contact_batch.h): pack()
 // lays each colour's constraints, then the overflow's, into eight-lane batches by point count,
-// then writes what each contact brings into its lane, one lane at a time, and works out the rows
-// that follow from it (lever arms, effective masses, the couplings between a batch's rows) for all
-// eight lanes at once. The passes over the batches are contact_batch.cpp.
+// then copies what each contact and its bodies bring, one lane at a time, and works out what
+// follows from it (anchors, separations, velocities before the step, friction, lever arms,
+// effective masses, the couplings between a batch's rows) for all eight lanes at once (done lane by
+// lane, that arithmetic cost 1.6 times the instructions of the rest of the packing). The passes
+// over the batches are contact_batch.cpp.
 #include <algorithm>
 #include <cmath>
 
@@ -26,53 +28,121 @@ constexpr std::uint32_t min_parallel_batch_builds = min_parallel_constraints / l
   return inverse_mass > 0.0f ? 1.0f / inverse_mass : 0.0f;
 }
 
-// What one contact brings to its lane, read from the contact and its bodies: bodies, normal,
-// inverse masses, anchors, separations, impulses, and what restitution and friction need from the
-// velocities before the step. Writes that lane alone.
-void build_lane(ContactBatch& k, int lane, const ConstraintSource& source, const CachedContact& contact,
-                const Bodies& bodies) {
+// What the lanes of a batch work out together from what their contacts and bodies bring
+// (derive_points): each lane's bodies' poses, centres of mass and velocities, its points and
+// frictions. Copied here lane by lane, so that the arithmetic runs on all eight lanes at once.
+struct LaneInputs {
+  // Per body: rotation, centre of mass in the body frame, origin and its carry, velocities.
+  float rotation_ac[lane_count], rotation_as[lane_count], rotation_bc[lane_count], rotation_bs[lane_count];
+  float local_center_ax[lane_count], local_center_ay[lane_count];
+  float local_center_bx[lane_count], local_center_by[lane_count];
+  float origin_ax[lane_count], origin_ay[lane_count], origin_bx[lane_count], origin_by[lane_count];
+  float carry_ax[lane_count], carry_ay[lane_count], carry_bx[lane_count], carry_by[lane_count];
+  float velocity_ax[lane_count], velocity_ay[lane_count], velocity_bx[lane_count], velocity_by[lane_count];
+  float spin_a[lane_count], spin_b[lane_count];
+  float static_friction[lane_count], dynamic_friction[lane_count];
+  // Per manifold point, in the frame centred on body a's origin.
+  float point_x[2][lane_count], point_y[2][lane_count];
+  float separation[2][lane_count];
+};
+
+// What one contact brings to its lane: what the passes read of it as it is (bodies, normal,
+// inverse masses, restitution, impulses) straight into the batch; what is worked out from it into
+// `in`. Writes that lane alone.
+void gather_lane(ContactBatch& k, LaneInputs& in, int lane, const ConstraintSource& source,
+                 const CachedContact& contact, const Bodies& bodies) {
   const BodySim& sim_a = bodies.sims[source.body_a];
   const BodySim& sim_b = bodies.sims[source.body_b];
-  const FxVec2f normal = contact.manifold.normal;
-  const FxVec2f tangent = right_perp(normal);
   k.body_a[lane] = source.body_a;
   k.body_b[lane] = source.body_b;
-  k.normal_x[lane] = normal.x;
-  k.normal_y[lane] = normal.y;
+  k.normal_x[lane] = contact.manifold.normal.x;
+  k.normal_y[lane] = contact.manifold.normal.y;
   k.normal_frame[lane] = static_cast<std::int32_t>(contact.manifold.normal_frame);
   k.inv_mass_a[lane] = sim_a.inv_mass;
   k.inv_mass_b[lane] = sim_b.inv_mass;
   k.inv_inertia_a[lane] = sim_a.inv_inertia;
   k.inv_inertia_b[lane] = sim_b.inv_inertia;
   k.restitution[lane] = contact.restitution;
-
-  // The manifold is in a frame centred on body a's origin; move it to the centres of mass.
-  const FxVec2f center_a = rotate(sim_a.rotation, sim_a.local_center);
-  const FxVec2f center_b = bodies.center_offset(source.body_a, source.body_b) + center_a;
-  float sliding_speed = 0.0f;
+  in.rotation_ac[lane] = sim_a.rotation.c;
+  in.rotation_as[lane] = sim_a.rotation.s;
+  in.rotation_bc[lane] = sim_b.rotation.c;
+  in.rotation_bs[lane] = sim_b.rotation.s;
+  in.local_center_ax[lane] = sim_a.local_center.x;
+  in.local_center_ay[lane] = sim_a.local_center.y;
+  in.local_center_bx[lane] = sim_b.local_center.x;
+  in.local_center_by[lane] = sim_b.local_center.y;
+  in.origin_ax[lane] = sim_a.origin.x;
+  in.origin_ay[lane] = sim_a.origin.y;
+  in.origin_bx[lane] = sim_b.origin.x;
+  in.origin_by[lane] = sim_b.origin.y;
+  in.carry_ax[lane] = sim_a.carry.x;
+  in.carry_ay[lane] = sim_a.carry.y;
+  in.carry_bx[lane] = sim_b.carry.x;
+  in.carry_by[lane] = sim_b.carry.y;
+  in.velocity_ax[lane] = sim_a.linear_velocity.x;
+  in.velocity_ay[lane] = sim_a.linear_velocity.y;
+  in.velocity_bx[lane] = sim_b.linear_velocity.x;
+  in.velocity_by[lane] = sim_b.linear_velocity.y;
+  in.spin_a[lane] = sim_a.angular_velocity;
+  in.spin_b[lane] = sim_b.angular_velocity;
+  in.static_friction[lane] = contact.static_friction;
+  in.dynamic_friction[lane] = contact.dynamic_friction;
   for (int i = 0; i < source.point_count; ++i) {
     const ManifoldPoint& mp = contact.manifold.points[i];
-    PointColumns& column = k.point[i];
-    const FxVec2f anchor_a = mp.point - center_a;
-    const FxVec2f anchor_b = mp.point - center_b;
-    column.anchor_ax[lane] = anchor_a.x;
-    column.anchor_ay[lane] = anchor_a.y;
-    column.anchor_bx[lane] = anchor_b.x;
-    column.anchor_by[lane] = anchor_b.y;
-    column.adjusted_separation[lane] = mp.separation - dot(anchor_b - anchor_a, normal);
-    column.normal_impulse[lane] = contact.normal_impulse[i];
-    column.tangent_impulse[lane] = contact.tangent_impulse[i];
-    column.max_normal_impulse[lane] = 0.0f;
-    const FxVec2f dv = (sim_b.linear_velocity + cross(sim_b.angular_velocity, anchor_b)) -
-                       (sim_a.linear_velocity + cross(sim_a.angular_velocity, anchor_a));
-    k.relative_velocity[i][lane] = dot(dv, normal);
-    sliding_speed = std::max(sliding_speed, std::fabs(dot(dv, tangent)));
+    in.point_x[i][lane] = mp.point.x;
+    in.point_y[i][lane] = mp.point.y;
+    in.separation[i][lane] = mp.separation;
+    k.point[i].normal_impulse[lane] = contact.normal_impulse[i];
+    k.point[i].tangent_impulse[lane] = contact.tangent_impulse[i];
+    k.point[i].max_normal_impulse[lane] = 0.0f;
   }
-  k.friction[lane] = sliding_speed > sticking_speed ? contact.dynamic_friction : contact.static_friction;
 }
 
-// The rows of every lane of a batch, from the normals, anchors and inverse masses build_lane()
-// wrote: each body's inverse mass times the normal; per point the lever arms about the normal and
+// Per lane, from the inputs gather_lane() wrote: the anchors (the points moved from body a's
+// origin to each body's centre of mass, as Bodies::center_offset() does it), the separation at
+// the centres, what restitution and friction need from the velocities before the step, and the
+// friction that applies (static below sticking_speed). The operations are those of the vector
+// helpers in Math.h, in their order, so every lane gets the bits a scalar version would.
+template <int Points>
+[[gnu::always_inline]] inline void derive_points(ContactBatch& __restrict k, const LaneInputs& __restrict in) {
+  // check-vectorized(2): the lane loop below, for one and two points, must be vectorised. Padding
+  // lanes, whose inputs are all zero, come out zero.
+  for (int lane = 0; lane < lane_count; ++lane) {
+    const float nx = k.normal_x[lane], ny = k.normal_y[lane];
+    const float ac = in.rotation_ac[lane], as = in.rotation_as[lane], bc = in.rotation_bc[lane], bs = in.rotation_bs[lane];
+    const float lax = in.local_center_ax[lane], lay = in.local_center_ay[lane];
+    const float lbx = in.local_center_bx[lane], lby = in.local_center_by[lane];
+    // rotate(rotation_a, local_center_a), and center_offset(a, b) + that.
+    const float center_ax = ac * lax - as * lay, center_ay = as * lax + ac * lay;
+    const float origin_offset_x = (in.origin_bx[lane] - in.origin_ax[lane]) - (in.carry_bx[lane] - in.carry_ax[lane]);
+    const float origin_offset_y = (in.origin_by[lane] - in.origin_ay[lane]) - (in.carry_by[lane] - in.carry_ay[lane]);
+    const float center_bx = ((origin_offset_x + (bc * lbx - bs * lby)) - center_ax) + center_ax;
+    const float center_by = ((origin_offset_y + (bs * lbx + bc * lby)) - center_ay) + center_ay;
+    const float wa = in.spin_a[lane], wb = in.spin_b[lane];
+    bool sliding = false;  // whether a point slides faster than sticking_speed
+    for (int i = 0; i < Points; ++i) {
+      PointColumns& p = k.point[i];
+      const float ax = in.point_x[i][lane] - center_ax, ay = in.point_y[i][lane] - center_ay;
+      const float bx = in.point_x[i][lane] - center_bx, by = in.point_y[i][lane] - center_by;
+      p.anchor_ax[lane] = ax;
+      p.anchor_ay[lane] = ay;
+      p.anchor_bx[lane] = bx;
+      p.anchor_by[lane] = by;
+      p.adjusted_separation[lane] = in.separation[i][lane] - ((bx - ax) * nx + (by - ay) * ny);
+      // (v_b + cross(w_b, anchor_b)) - (v_a + cross(w_a, anchor_a)), along the normal and the
+      // tangent right_perp(normal) = (ny, -nx).
+      const float dvx = (in.velocity_bx[lane] + -wb * by) - (in.velocity_ax[lane] + -wa * ay);
+      const float dvy = (in.velocity_by[lane] + wb * bx) - (in.velocity_ay[lane] + wa * ax);
+      k.relative_velocity[i][lane] = dvx * nx + dvy * ny;
+      sliding |= std::fabs(dvx * ny + dvy * -nx) > sticking_speed;
+    }
+    const float dynamic_friction = in.dynamic_friction[lane], static_friction = in.static_friction[lane];
+    k.friction[lane] = sliding ? dynamic_friction : static_friction;
+  }
+}
+
+// The rows of every lane of a batch, from the normals and inverse masses gather_lane() wrote and
+// the anchors derive_points() worked out: each body's inverse mass times the normal; per point the lever arms about the normal and
 // the tangent right_perp(normal) = (ny, -nx), the spins a unit impulse there gives, the effective
 // masses 1 / (J M^-1 J^T); and the couplings between rows, J_s M^-1 J_r^T, that is
 // (m_a + m_b) (d_s . d_r) + arm_a(s) spin_a(r) + arm_b(s) spin_b(r): normal and tangent are
@@ -126,10 +196,12 @@ template <int Points>
   }
 }
 
-FX2D_LANE_KERNEL void derive_batch_rows(ContactBatch& k, int points) {
+FX2D_LANE_KERNEL void derive_batch(ContactBatch& __restrict k, const LaneInputs& __restrict in, int points) {
   if (points == 1) {
+    derive_points<1>(k, in);
     derive_rows<1>(k);
   } else {
+    derive_points<2>(k, in);
     derive_rows<2>(k);
   }
 }
@@ -152,19 +224,21 @@ void ContactBatches::build_batch(int index, std::span<const ConstraintSource> co
                                  const ContactCache& contacts, const Bodies& bodies, std::uint32_t padding_body) {
   ContactBatch& k = batches_[index];
   const BatchMembers members = members_[index];
+  LaneInputs inputs;
   // Padding lanes point at the padding body with every value zero, so they change nothing.
   if (members.count < lane_count) {
     k = ContactBatch{};
+    inputs = LaneInputs{};
     std::fill(std::begin(k.body_a) + members.count, std::end(k.body_a), padding_body);
     std::fill(std::begin(k.body_b) + members.count, std::end(k.body_b), padding_body);
   }
   for (int lane = 0; lane < members.count; ++lane) {
     const int constraint = members.first[lane];
     const ConstraintSource& source = constraints[constraint];
-    build_lane(k, lane, source, contacts.slots[source.cache_id], bodies);
+    gather_lane(k, inputs, lane, source, contacts.slots[source.cache_id], bodies);
     lanes_[constraint] = index * lane_count + lane;
   }
-  derive_batch_rows(k, constraints[members.first[0]].point_count);
+  derive_batch(k, inputs, constraints[members.first[0]].point_count);
 }
 
 void ContactBatches::reserve(std::size_t constraints) {
