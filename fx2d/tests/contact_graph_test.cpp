@@ -102,5 +102,46 @@ TEST(ContactGraph, WhatFitsNoColourGoesToOverflow) {
   check_colouring(graph, constraints, movable);
 }
 
+// Whether two graphs list the same constraints in every colour and in the overflow.
+void expect_same_colours(const ContactGraph& built, const ContactGraph& fresh) {
+  ASSERT_EQ(built.colour_count(), fresh.colour_count());
+  std::vector<int> groups;
+  for (int colour = 0; colour < fresh.colour_count(); ++colour) groups.push_back(colour);
+  groups.push_back(ContactGraph::overflow);
+  for (const int colour : groups) {
+    for (int points = 1; points <= 2; ++points) {
+      const std::span<const int> a = built.members(colour, points), b = fresh.members(colour, points);
+      EXPECT_EQ(std::vector<int>(a.begin(), a.end()), std::vector<int>(b.begin(), b.end())) << "colour " << colour;
+    }
+  }
+}
+
+TEST(ContactGraph, ABuildKeepsTheLastColoursOnlyWhileConstraintsAndMovabilityStay) {
+  // A chain 0-1-2-3 of movable bodies takes two colours; with 1 and 2 static, one.
+  auto constraints = pairs_to_constraints({{0, 1}, {1, 2}, {2, 3}});
+  const std::vector<std::uint8_t> chain = {1, 1, 1, 1}, ends_only = {1, 0, 0, 1};
+  ContactGraph graph;
+  graph.build(constraints, flagged_states(chain));
+  EXPECT_EQ(graph.colour_count(), 2);
+  graph.build(constraints, flagged_states(chain));
+  EXPECT_EQ(graph.colour_count(), 2);
+  graph.build(constraints, flagged_states(ends_only));
+  EXPECT_EQ(graph.colour_count(), 1);
+  check_colouring(graph, constraints, ends_only);
+  // Same bodies, another point count: the groups move.
+  constraints[1].point_count = 2;
+  graph.build(constraints, flagged_states(ends_only));
+  ContactGraph fresh;
+  fresh.build(constraints, flagged_states(ends_only));
+  expect_same_colours(graph, fresh);
+  // Another list of the same length.
+  constraints[2].body_b = 0;
+  graph.build(constraints, flagged_states(chain));
+  ContactGraph fresh_chain;
+  fresh_chain.build(constraints, flagged_states(chain));
+  expect_same_colours(graph, fresh_chain);
+  check_colouring(graph, constraints, chain);
+}
+
 }  // namespace
 }  // namespace fx2d::detail

@@ -25,7 +25,9 @@ class ContactGraph {
   static constexpr int overflow = max_colours;
 
   // A body is movable when its state carries movable_flag (prepare_solver sets it on the awake
-  // dynamic bodies); the solver never changes any other body's state.
+  // dynamic bodies); the solver never changes any other body's state. The colours depend on
+  // nothing else, so when every constraint has the bodies, point count and movability it had at
+  // the last build, that build's colours stand (the usual step of a scene at rest).
   void build(std::span<const ConstraintSource> constraints, std::span<const FxBodyState> states);
 
   // Grows storage for this many constraints and bodies, so build() does not allocate up to there.
@@ -39,6 +41,17 @@ class ContactGraph {
 
  private:
   static_assert(max_colours < 32, "a body's colours are a 32-bit set");
+  // All the colouring reads of a constraint: its bodies; its point count and which of them are
+  // movable, in one word (shape_of).
+  struct Coloured {
+    std::uint32_t body_a = 0;
+    std::uint32_t body_b = 0;
+    std::uint32_t shape = 0;
+  };
+  bool same_as_last(std::span<const ConstraintSource> constraints, std::span<const FxBodyState> states) const;
+  void colour(std::span<const ConstraintSource> constraints, std::span<const FxBodyState> states);
+
+  std::vector<Coloured> coloured_;  // per constraint of the last build
   std::vector<std::uint32_t> colours_of_;  // per body, the colours that hold it
   std::vector<std::uint8_t> group_of_;  // per constraint, its colour's group for its point count
   static constexpr int groups = 2 * (max_colours + 1);  // per colour and the overflow, per point count
