@@ -48,7 +48,8 @@ struct LaneInputs {
 
 // What one contact brings to its lane: what the passes read of it as it is (bodies, normal,
 // inverse masses, restitution, impulses) straight into the batch; what is worked out from it into
-// `in`. Writes that lane alone.
+// `in`. Writes that lane alone. `Points` is the contact's point count, the batch's.
+template <int Points>
 void gather_lane(ContactBatch& k, LaneInputs& in, int lane, const ConstraintSource& source,
                  const CachedContact& contact, const Bodies& bodies) {
   const BodySim& sim_a = bodies.sims[source.body_a];
@@ -87,7 +88,7 @@ void gather_lane(ContactBatch& k, LaneInputs& in, int lane, const ConstraintSour
   in.spin_b[lane] = sim_b.angular_velocity;
   in.static_friction[lane] = contact.static_friction;
   in.dynamic_friction[lane] = contact.dynamic_friction;
-  for (int i = 0; i < source.point_count; ++i) {
+  for (int i = 0; i < Points; ++i) {
     const ManifoldPoint& mp = contact.manifold.points[i];
     in.point_x[i][lane] = mp.point.x;
     in.point_y[i][lane] = mp.point.y;
@@ -232,13 +233,19 @@ void ContactBatches::build_batch(int index, std::span<const ConstraintSource> co
     std::fill(std::begin(k.body_a) + members.count, std::end(k.body_a), padding_body);
     std::fill(std::begin(k.body_b) + members.count, std::end(k.body_b), padding_body);
   }
+  const int points = constraints[members.first[0]].point_count;
   for (int lane = 0; lane < members.count; ++lane) {
     const int constraint = members.first[lane];
     const ConstraintSource& source = constraints[constraint];
-    gather_lane(k, inputs, lane, source, contacts.slots[source.cache_id], bodies);
+    const CachedContact& contact = contacts.slots[source.cache_id];
+    if (points == 1) {
+      gather_lane<1>(k, inputs, lane, source, contact, bodies);
+    } else {
+      gather_lane<2>(k, inputs, lane, source, contact, bodies);
+    }
     lanes_[constraint] = index * lane_count + lane;
   }
-  derive_batch(k, inputs, constraints[members.first[0]].point_count);
+  derive_batch(k, inputs, points);
 }
 
 void ContactBatches::reserve(std::size_t constraints) {
