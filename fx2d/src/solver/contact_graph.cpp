@@ -44,11 +44,10 @@ bool ContactGraph::same_as_last(std::span<const ConstraintSource> constraints,
   for (std::size_t i = 0; i < constraints.size(); ++i) {
     const ConstraintSource& constraint = constraints[i];
     const Coloured& last = coloured_[i];
-    if (constraint.body_a != last.body_a || constraint.body_b != last.body_b ||
-        shape_of(constraint.point_count, places_of(states, constraint.body_a), places_of(states, constraint.body_b)) !=
-            last.shape) {
-      return false;
-    }
+    const std::uint32_t a = constraint.body_a, b = constraint.body_b;
+    if (a != last.body_a || b != last.body_b) return false;
+    const std::uint32_t shape = shape_of(constraint.point_count, places_of(states, a), places_of(states, b));
+    if (shape != last.shape) return false;
   }
   return true;
 }

@@ -105,22 +105,28 @@ void gather_lane(ContactBatch& k, LaneInputs& in, int lane, const ConstraintSour
 // friction that applies (static below sticking_speed). The operations are those of the vector
 // helpers in Math.h, in their order, so every lane gets the bits a scalar version would.
 template <int Points>
-[[gnu::always_inline]] inline void derive_points(ContactBatch& __restrict k, const LaneInputs& __restrict in) {
+[[gnu::always_inline]] inline void derive_points(ContactBatch& __restrict k,
+                                                  const LaneInputs& __restrict in) {
   // check-vectorized(2): the lane loop below, for one and two points, must be vectorised. Padding
   // lanes, whose inputs are all zero, come out zero.
   for (int lane = 0; lane < lane_count; ++lane) {
     const float nx = k.normal_x[lane], ny = k.normal_y[lane];
-    const float ac = in.rotation_ac[lane], as = in.rotation_as[lane], bc = in.rotation_bc[lane], bs = in.rotation_bs[lane];
+    const float ac = in.rotation_ac[lane], as = in.rotation_as[lane];
+    const float bc = in.rotation_bc[lane], bs = in.rotation_bs[lane];
     const float lax = in.local_center_ax[lane], lay = in.local_center_ay[lane];
     const float lbx = in.local_center_bx[lane], lby = in.local_center_by[lane];
     // rotate(rotation_a, local_center_a), and center_offset(a, b) + that.
     const float center_ax = ac * lax - as * lay, center_ay = as * lax + ac * lay;
-    const float origin_offset_x = (in.origin_bx[lane] - in.origin_ax[lane]) - (in.carry_bx[lane] - in.carry_ax[lane]);
-    const float origin_offset_y = (in.origin_by[lane] - in.origin_ay[lane]) - (in.carry_by[lane] - in.carry_ay[lane]);
+    const float origin_offset_x =
+        (in.origin_bx[lane] - in.origin_ax[lane]) - (in.carry_bx[lane] - in.carry_ax[lane]);
+    const float origin_offset_y =
+        (in.origin_by[lane] - in.origin_ay[lane]) - (in.carry_by[lane] - in.carry_ay[lane]);
     const float center_bx = ((origin_offset_x + (bc * lbx - bs * lby)) - center_ax) + center_ax;
     const float center_by = ((origin_offset_y + (bs * lbx + bc * lby)) - center_ay) + center_ay;
     const float wa = in.spin_a[lane], wb = in.spin_b[lane];
-    bool sliding = false;  // whether a point slides faster than sticking_speed
+    // Whether a point slides faster than sticking_speed: what max(|tangent speeds|) >
+    // sticking_speed says, but as |=, which the SSE2 clone vectorises and a select chain is not.
+    bool sliding = false;
     for (int i = 0; i < Points; ++i) {
       PointColumns& p = k.point[i];
       const float ax = in.point_x[i][lane] - center_ax, ay = in.point_y[i][lane] - center_ay;
@@ -137,15 +143,17 @@ template <int Points>
       k.relative_velocity[i][lane] = dvx * nx + dvy * ny;
       sliding |= std::fabs(dvx * ny + dvy * -nx) > sticking_speed;
     }
+    // Both read before the choice: a choice between two loads is not vectorised in the SSE2 clone.
     const float dynamic_friction = in.dynamic_friction[lane], static_friction = in.static_friction[lane];
     k.friction[lane] = sliding ? dynamic_friction : static_friction;
   }
 }
 
 // The rows of every lane of a batch, from the normals and inverse masses gather_lane() wrote and
-// the anchors derive_points() worked out: each body's inverse mass times the normal; per point the lever arms about the normal and
-// the tangent right_perp(normal) = (ny, -nx), the spins a unit impulse there gives, the effective
-// masses 1 / (J M^-1 J^T); and the couplings between rows, J_s M^-1 J_r^T, that is
+// the anchors derive_points() worked out: each body's inverse mass times the normal; per point
+// the lever arms about the normal and the tangent right_perp(normal) = (ny, -nx), the spins a
+// unit impulse there gives, the effective masses 1 / (J M^-1 J^T); and the couplings between rows,
+// J_s M^-1 J_r^T, that is
 // (m_a + m_b) (d_s . d_r) + arm_a(s) spin_a(r) + arm_b(s) spin_b(r): normal and tangent are
 // perpendicular, so the mass term appears only between rows of one direction.
 template <int Points>
