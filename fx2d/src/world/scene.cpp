@@ -134,7 +134,8 @@ void World::step() {
     clock.switch_to(FxStage::store);
     store_impulses(solver_, contacts_);
     clock.switch_to(FxStage::sleep);
-    update_sleep(step, sleep_, bodies_, contacts_, constraints_, solver_.integration.moving_bodies());
+    update_sleep(step, sleep_, bodies_, solver_.contact_solver.sources(), constraints_,
+                 solver_.integration.moving_bodies());
   }
   stepping_ = false;
   ++step_index_;

@@ -12,10 +12,6 @@
 namespace fx2d::detail {
 namespace {
 
-// Fewer than one body in this many awake: the islands are found from the awake bodies' contact
-// lists rather than from every cached contact.
-constexpr std::size_t few_awake_inverse = 4;
-
 int find_root(std::vector<int>& parent, int i) {
   while (parent[i] != i) {
     parent[i] = parent[parent[i]];
@@ -37,8 +33,9 @@ void SleepScratch::reserve(std::size_t bodies) {
   island_min_sleep_time.reserve(bodies);
 }
 
-void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies, const ContactCache& contacts,
-                  const Constraints& constraints, std::span<const std::uint32_t> moving) {
+void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies,
+                  std::span<const ConstraintSource> touching, const Constraints& constraints,
+                  std::span<const std::uint32_t> moving) {
   const FxSceneSettings& settings = step.settings;
   if (!settings.sleeping) return;
   std::vector<BodyRecord>& records = bodies.records;
@@ -57,23 +54,13 @@ void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies
     return records[a].type == FxBodyType::dynamic && records[b].type == FxBodyType::dynamic &&
            records[a].awake && records[b].awake;
   };
-  auto unite_if_touching = [&](const CachedContact& contact) {
-    if (contact.touching && links_islands(contact.body_a, contact.body_b)) {
+  // The step's contact constraints are the touching contacts with an awake body (prepare_solver),
+  // in a compact list: walking it, rather than every cached contact or the awake bodies' contact
+  // lists, finds the same islands (each root is its island's lowest index, whatever the order).
+  for (const ConstraintSource& contact : touching) {
+    if (links_islands(contact.body_a, contact.body_b)) {
       unite(island_parent, static_cast<int>(contact.body_a), static_cast<int>(contact.body_b));
     }
-  };
-  // The islands are the same whichever way the contacts are visited (each root is its island's
-  // lowest index). The awake bodies' own contact lists leave sleeping islands out but find a
-  // contact from both sides, by pointer chasing: worth it only while few bodies are awake (every
-  // body awake, on pile 600, it cost 1.5% more instructions per step than the slot vector).
-  if (moving.size() * few_awake_inverse < records.size()) {
-    for (const std::uint32_t i : moving) {
-      for (int edge = records[i].contact_head; edge != -1; edge = contacts.next(edge)) {
-        unite_if_touching(contacts.slots[ContactCache::contact_of(edge)]);
-      }
-    }
-  } else {
-    for (const CachedContact& contact : contacts.slots) unite_if_touching(contact);
   }
   for (const auto& constraint : constraints) {
     const std::uint32_t a = constraint->entity_a()->packed_index();

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "world/bodies.h"
-#include "collision/contact_cache.h"
+#include "solver/contact_solver.h"
 
 namespace fx2d::detail {
 
@@ -20,9 +20,12 @@ struct SleepScratch {
   void reserve(std::size_t bodies);
 };
 
-// Stage: puts to sleep every island of `moving` bodies whose bodies all rested time_to_sleep.
-void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies, const ContactCache& contacts,
-                  const Constraints& constraints, std::span<const std::uint32_t> moving);
+// Stage: puts to sleep every island of `moving` bodies whose bodies all rested time_to_sleep. The
+// islands are joined by the step's contact constraints, `touching` (the touching contacts with an
+// awake body), and the user constraints.
+void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies,
+                  std::span<const ConstraintSource> touching, const Constraints& constraints,
+                  std::span<const std::uint32_t> moving);
 
 // Wakes the island of body `index` (nothing for an awake or static body).
 void wake_body(Bodies& bodies, std::uint32_t index);
