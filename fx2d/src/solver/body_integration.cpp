@@ -149,7 +149,8 @@ void BodyIntegration::finish() {
 
 void BodyIntegration::integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits,
                                            const Tasks& tasks) const {
-  tasks.for_each_range(static_cast<std::uint32_t>(dynamic_size_), bodies_per_block, min_parallel_bodies,
+  const auto count = static_cast<std::uint32_t>(dynamic_size_);
+  tasks.for_each_range(count, tasks.per_worker(count, lane_count), min_parallel_bodies,
                        [&](std::uint32_t first, std::uint32_t last) {
                          const DynamicColumns columns{dynamic_.data() + first, acceleration_x_.data() + first,
                                                       acceleration_y_.data() + first, linear_factor_.data() + first,
@@ -160,7 +161,8 @@ void BodyIntegration::integrate_velocities(std::span<FxBodyState> states, float 
 
 void BodyIntegration::integrate_positions(std::span<FxBodyState> states, float h, SpeedLimits limits,
                                           const Tasks& tasks) const {
-  tasks.for_each_range(static_cast<std::uint32_t>(moving_size_), bodies_per_block, min_parallel_bodies,
+  const auto count = static_cast<std::uint32_t>(moving_size_);
+  tasks.for_each_range(count, tasks.per_worker(count, lane_count), min_parallel_bodies,
                        [&](std::uint32_t first, std::uint32_t last) {
                          integrate_position_groups(moving_.data() + first, last - first, states.data(), h, limits);
                        });

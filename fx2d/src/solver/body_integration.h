@@ -23,10 +23,10 @@
 
 namespace fx2d::detail {
 
-// Bodies per range of the parallel body loops (whole groups of eight), and the fewest worth
-// waking the workers for: two workers took 0.78-0.81 of one's integration at 800 and 1200 bodies,
-// 0.98 at 300 (fx2d/src/README.md).
-inline constexpr std::uint32_t bodies_per_block = 128;
+// The fewest bodies worth waking the workers for: two workers took 0.78-0.81 of one's integration
+// at 800 and 1200 bodies, 0.98 at 300 (fx2d/src/README.md). The parallel body loops give each
+// worker one range of whole groups of eight (Tasks::per_worker), the same share in every loop of
+// the step, so that a body's state stays in the cache of the core that integrates it.
 inline constexpr std::uint32_t min_parallel_bodies = 512;
 
 class BodyIntegration {

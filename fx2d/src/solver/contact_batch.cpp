@@ -457,14 +457,6 @@ std::span<const BatchRun> cut_runs(std::span<const BatchRun> runs, int begin, in
   return {cut, count};
 }
 
-// One range per worker: the stepping thread claims the first and a worker the next, so each
-// thread keeps the same batches, and their bodies in its cache, pass after pass. Batches of a
-// colour are independent, so the cut changes no bit.
-std::uint32_t per_worker(std::uint32_t count, const Tasks& tasks) {
-  const auto workers = static_cast<std::uint32_t>(tasks.workers());
-  return (count + workers - 1) / workers;
-}
-
 // The most runs pack() makes: one per point count, per colour and for the overflow.
 constexpr int max_runs = 2 * (ContactGraph::max_colours + 1);
 
@@ -487,7 +479,7 @@ void ContactBatches::sweep_colours_apart(const Tasks& tasks, const Sweep& sweep)
     const int first = colour_runs.front().first;
     const auto count = static_cast<std::uint32_t>(colour_runs.back().first + colour_runs.back().count - first);
     const bool shared = tasks.runs_in_parallel(count, min_parallel_batches);
-    tasks.for_each_range(count, per_worker(count, tasks), min_parallel_batches, [&](std::uint32_t begin, std::uint32_t end) {
+    tasks.for_each_range(count, tasks.per_worker(count, 1), min_parallel_batches, [&](std::uint32_t begin, std::uint32_t end) {
       BatchRun cut[2];
       sweep(cut_runs(colour_runs, first + static_cast<int>(begin), first + static_cast<int>(end), cut), shared);
     });
@@ -530,7 +522,7 @@ void ContactBatches::update_separations_apart(std::span<const FxBodyState> state
   const auto count = static_cast<std::uint32_t>(batch_count_);
   // Each range writes only its own batches and marks; whether any is deep is read off the marks
   // afterwards, not gathered from the threads.
-  tasks.for_each_range(count, per_worker(count, tasks), min_parallel_batches, [&](std::uint32_t begin, std::uint32_t end) {
+  tasks.for_each_range(count, tasks.per_worker(count, 1), min_parallel_batches, [&](std::uint32_t begin, std::uint32_t end) {
     BatchRun cut[max_runs];
     update_run_separations(cut_runs(runs_, static_cast<int>(begin), static_cast<int>(end), cut), batches_.data(),
                            states.data(), slop, deep_.data());

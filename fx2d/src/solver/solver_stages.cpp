@@ -252,7 +252,8 @@ void solve_positions(const StepContext& step, SolverData& solver) {
 
 void finalize_bodies(const StepContext& step, const SolverData& solver, Bodies& bodies, const BroadPhase& broad) {
   const std::span<const std::uint32_t> moving = solver.integration.moving_bodies();
-  step.tasks.for_each_range(static_cast<std::uint32_t>(moving.size()), bodies_per_block, min_parallel_bodies,
+  const auto count = static_cast<std::uint32_t>(moving.size());
+  step.tasks.for_each_range(count, step.tasks.per_worker(count, lane_count), min_parallel_bodies,
                             [&](std::uint32_t first, std::uint32_t last) {
                               const std::span<const std::uint32_t> block = moving.subspan(first, last - first);
                               for (const std::uint32_t i : block) {

@@ -85,6 +85,18 @@ class Tasks {
     return workers_ > 1 && item_count >= min_parallel;
   }
 
+  // One range per worker, in whole granules: a block size for for_each_range() under which the
+  // stepping thread claims the first range and a worker the next, so each thread sweeps the same
+  // share of a list every time and keeps it in its cache. Blocks claimed one by one fall on the
+  // threads differently each time, and each core reads back the bodies the other wrote: on
+  // settling_boxes 3000, two workers integrated in 0.76 of one's time that way, 0.59 so. Items of
+  // a loop so split must be independent, as the split then changes no bit.
+  std::uint32_t per_worker(std::uint32_t item_count, std::uint32_t granule) const {
+    const auto workers = static_cast<std::uint32_t>(workers_);
+    const std::uint32_t granules = (item_count + granule - 1) / granule;
+    return (granules + workers - 1) / workers * granule;
+  }
+
   // Calls body(first, last) over [0, item_count) in ranges of whole blocks of `block` items. On
   // the calling thread alone, as one range, when there is one worker or fewer than `min_parallel`
   // items: there, waking threads would cost more than they take over.
