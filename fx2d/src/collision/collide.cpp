@@ -10,6 +10,7 @@
 // ids from one step to the next. Nothing here allocates.
 #include "collision/collide.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -67,16 +68,77 @@ float separation_along(FxVec2f normal, FxVec2f origin, const PolygonView& other)
   return deepest;
 }
 
-// The edge of `reference` whose normal separates `other` the most, and by how much; or the first
-// edge that separates it by `apart` or more, since the pair is then apart whichever separates most.
-FaceSeparation max_face_separation(const PolygonView& reference, const PolygonView& other, float apart) {
+// The face of greatest separation among `count` faces, each measured by `separation_of`; or the
+// first face that separates the pair by `apart` or more, since the pair is then apart whichever
+// separates most. Ties go to the lowest index.
+template <typename SeparationOf>
+FaceSeparation max_face_separation(int count, float apart, SeparationOf separation_of) {
   FaceSeparation best{0, -std::numeric_limits<float>::max()};
-  for (int i = 0; i < reference.count; ++i) {
-    const float deepest = separation_along(reference.normals[i], reference.vertices[i], other);
+  for (int i = 0; i < count; ++i) {
+    const float deepest = separation_of(i);
     if (deepest >= apart) return {i, deepest};
     if (deepest > best.separation) best = {i, deepest};
   }
   return best;
+}
+
+// The edge of `reference` whose normal separates `other` the most, found by the vertex loops.
+FaceSeparation max_face_separation(const PolygonView& reference, const PolygonView& other, float apart) {
+  return max_face_separation(reference.count, apart, [&](int i) {
+    return separation_along(reference.normals[i], reference.vertices[i], other);
+  });
+}
+
+// A centred box (FxShape::centred_box) in its own frame has corners (+-hx, +-hy) and unit axes
+// for normals, and the closed forms below give, bit for bit, the least value the vertex loops of
+// separation_along find: rounding is monotonic, so each rounded term of a dot product grows or
+// shrinks with its own coordinate, and so does their rounded sum.
+struct Bounds {
+  FxVec2f lower, upper;
+};
+
+Bounds bounds_of(const PolygonView& polygon) {
+  Bounds bounds{polygon.vertices[0], polygon.vertices[0]};
+  for (int i = 1; i < polygon.count; ++i) {
+    const FxVec2f v = polygon.vertices[i];
+    bounds.lower = {std::min(bounds.lower.x, v.x), std::min(bounds.lower.y, v.y)};
+    bounds.upper = {std::max(bounds.upper.x, v.x), std::max(bounds.upper.y, v.y)};
+  }
+  return bounds;
+}
+
+// How far a polygon within `other` lies beyond the box's face with `normal` through `origin`. The
+// normal's zero component adds a zero, so the deepest vertex is the one least far along the axis,
+// and its coordinate less the face's is the loop's least difference.
+float separation_beyond_box_face(FxVec2f normal, FxVec2f origin, const Bounds& other) {
+  if (normal.x > 0.0f) return other.lower.x - origin.x;
+  if (normal.x < 0.0f) return origin.x - other.upper.x;
+  if (normal.y > 0.0f) return other.lower.y - origin.y;
+  return origin.y - other.upper.y;
+}
+
+// How far a box with half extents `half` lies beyond the face with `normal` through `origin`. Its
+// corners pair either x with either y, so its deepest corner takes from each pair the end the
+// normal points away from (either, where the normal's component is zero).
+float separation_of_box(FxVec2f normal, FxVec2f origin, FxVec2f half) {
+  const FxVec2f deepest{normal.x > 0.0f ? -half.x : half.x, normal.y > 0.0f ? -half.y : half.y};
+  return dot(normal, deepest - origin);
+}
+
+// The two face searches of a centred box A against any polygon B (both in A's frame), in closed form:
+// each of A's faces reads B's bounds, each of B's faces one corner of A.
+FaceSeparation max_box_face_separation(const PolygonView& box, const PolygonView& other, float apart) {
+  const Bounds bounds = bounds_of(other);
+  return max_face_separation(4, apart, [&](int i) {  // four faces, known here: the loop unrolls
+    return separation_beyond_box_face(box.normals[i], box.vertices[i], bounds);
+  });
+}
+
+FaceSeparation max_face_separation_from_box(const PolygonView& reference, const PolygonView& box, float apart) {
+  const FxVec2f half{std::abs(box.vertices[0].x), std::abs(box.vertices[0].y)};
+  return max_face_separation(reference.count, apart, [&](int i) {
+    return separation_of_box(reference.normals[i], reference.vertices[i], half);
+  });
 }
 
 // True when `face` of polygon b (placed in a's frame by `b_in_a`) still holds a apart by `apart`:
@@ -199,7 +261,7 @@ void collide_polygon_circle(const FxShape& a, const FxTransform& xf_a, const FxS
 }
 
 void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
-                      float speculative_distance, SeparatingFace first_try, Manifold& out) {
+                      float speculative_distance, SeparatingFace first_try, Manifold& out, FaceSearch search) {
   out = Manifold{};
   // Work in A's frame: A's vertices and normals as stored, B's placed relative to it. B's normals
   // only once A's faces have not separated the two, as they do for most pairs the broad phase finds.
@@ -223,9 +285,12 @@ void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& 
           speculative_distance) {
     return apart_along(Owner::a, first_try.edge);
   }
-  const FaceSeparation face_a = max_face_separation(poly_a, poly_b, speculative_distance);
+  const bool closed_form = search == FaceSearch::closed_form_for_boxes && a.centred_box();
+  const FaceSeparation face_a = closed_form ? max_box_face_separation(poly_a, poly_b, speculative_distance)
+                                            : max_face_separation(poly_a, poly_b, speculative_distance);
   for (int i = 0; i < count_b; ++i) b_normals[i] = rotate(b_in_a.q, b.normals()[i]);
-  const FaceSeparation face_b = max_face_separation(poly_b, poly_a, speculative_distance);
+  const FaceSeparation face_b = closed_form ? max_face_separation_from_box(poly_b, poly_a, speculative_distance)
+                                            : max_face_separation(poly_b, poly_a, speculative_distance);
   // Of two faces that part the pair, B's is named: trying it first places one of B's vertices, not all.
   if (!(face_b.separation < speculative_distance)) return apart_along(Owner::b, face_b.edge);
   if (!(face_a.separation < speculative_distance)) return apart_along(Owner::a, face_a.edge);
