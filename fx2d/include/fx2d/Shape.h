@@ -67,6 +67,9 @@ class FxShape {
   // A length that bounds how far any point of the shape lies from its centroid (metres);
   // the solver uses it to bound how far rotation can move a surface in one step.
   float extent() const { return extent_; }
+  // True for a polygon whose vertices are (+-a, +-b) exactly, as FxShape::box makes with no centre
+  // or angle: the narrow phase and compute_aabb() treat such a box in closed form.
+  bool centred_box() const { return centred_box_; }
 
  private:
   FxShapeType type_ = FxShapeType::circle;

@@ -10,6 +10,7 @@
 // ids from one step to the next. Nothing here allocates.
 #include "collision/collide.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -52,6 +53,13 @@ struct PolygonView {
   int count;
 };
 
+// A polygon's vertices and normals placed in another's frame, on the caller's stack.
+struct PlacedPolygon {
+  std::array<FxVec2f, FxShape::max_vertices> vertices, normals;
+  int count = 0;
+  PolygonView view() const { return {vertices.data(), normals.data(), count}; }
+};
+
 struct FaceSeparation {
   int edge = 0;
   float separation = 0.0f;
@@ -67,23 +75,131 @@ float separation_along(FxVec2f normal, FxVec2f origin, const PolygonView& other)
   return deepest;
 }
 
-// The edge of `reference` whose normal separates `other` the most, and by how much; or the first
-// edge that separates it by `apart` or more, since the pair is then apart whichever separates most.
-FaceSeparation max_face_separation(const PolygonView& reference, const PolygonView& other, float apart) {
+// The face of greatest separation among `count` faces, each measured by `separation_of`; or the
+// first face that separates the pair by `apart` or more, since the pair is then apart whichever
+// separates most. Ties go to the lowest index.
+template <typename SeparationOf>
+FaceSeparation max_face_separation(int count, float apart, SeparationOf separation_of) {
   FaceSeparation best{0, -std::numeric_limits<float>::max()};
-  for (int i = 0; i < reference.count; ++i) {
-    const float deepest = separation_along(reference.normals[i], reference.vertices[i], other);
+  for (int i = 0; i < count; ++i) {
+    const float deepest = separation_of(i);
     if (deepest >= apart) return {i, deepest};
     if (deepest > best.separation) best = {i, deepest};
   }
   return best;
 }
 
+// A centred box (FxShape::centred_box) in its own frame has corners (+-hx, +-hy) and unit axes
+// for normals, and the closed forms below give, bit for bit, the least value the vertex loops of
+// separation_along find: rounding is monotonic, so each rounded term of a dot product grows or
+// shrinks with its own coordinate, and so does their rounded sum.
+struct Bounds {
+  FxVec2f lower, upper;
+};
+
+Bounds bounds_of(const PolygonView& polygon) {
+  Bounds bounds{polygon.vertices[0], polygon.vertices[0]};
+  for (int i = 1; i < polygon.count; ++i) {
+    const FxVec2f v = polygon.vertices[i];
+    bounds.lower = {std::min(bounds.lower.x, v.x), std::min(bounds.lower.y, v.y)};
+    bounds.upper = {std::max(bounds.upper.x, v.x), std::max(bounds.upper.y, v.y)};
+  }
+  return bounds;
+}
+
+// How far a polygon within `other` lies beyond the box's face with `normal` through `origin`. The
+// normal's zero component adds a zero, so the deepest vertex is the one least far along the axis,
+// and its coordinate less the face's is the loop's least difference.
+float separation_beyond_box_face(FxVec2f normal, FxVec2f origin, const Bounds& other) {
+  if (normal.x > 0.0f) return other.lower.x - origin.x;
+  if (normal.x < 0.0f) return origin.x - other.upper.x;
+  if (normal.y > 0.0f) return other.lower.y - origin.y;
+  return origin.y - other.upper.y;
+}
+
+// How far a box with half extents `half` lies beyond the face with `normal` through `origin`. Its
+// corners pair either x with either y, so its deepest corner takes from each pair the end the
+// normal points away from (either, where the normal's component is zero).
+float separation_of_box(FxVec2f normal, FxVec2f origin, FxVec2f half) {
+  const FxVec2f deepest{normal.x > 0.0f ? -half.x : half.x, normal.y > 0.0f ? -half.y : half.y};
+  return dot(normal, deepest - origin);
+}
+
+// How far B (placed in A's frame) lies beyond A's face `face`: from B's bounds when A is a centred
+// box, else by the vertex loop.
+template <bool a_is_box>
+class SeparationOfB {
+ public:
+  SeparationOfB(const PolygonView& a, const PolygonView& b) : a_(a), b_(b) {
+    if constexpr (a_is_box) b_bounds_ = bounds_of(b);
+  }
+  float operator()(int face) const {
+    if constexpr (a_is_box) return separation_beyond_box_face(a_.normals[face], a_.vertices[face], b_bounds_);
+    return separation_along(a_.normals[face], a_.vertices[face], b_);
+  }
+
+ private:
+  const PolygonView& a_;
+  const PolygonView& b_;
+  Bounds b_bounds_;
+};
+
+// How far A lies beyond a face of B with `normal` through `origin` (in A's frame): from one corner
+// when A is a centred box, else by the vertex loop.
+template <bool a_is_box>
+class SeparationOfA {
+ public:
+  explicit SeparationOfA(const PolygonView& a)
+      : a_(a), half_{std::abs(a.vertices[0].x), std::abs(a.vertices[0].y)} {}
+  float operator()(FxVec2f normal, FxVec2f origin) const {
+    if constexpr (a_is_box) return separation_of_box(normal, origin, half_);
+    return separation_along(normal, origin, a_);
+  }
+
+ private:
+  const PolygonView& a_;
+  FxVec2f half_;
+};
+
+// Where the face searches leave a polygon pair: apart along a face (its owner not none), or each
+// polygon's face of greatest separation.
+struct FaceSearchResult {
+  SeparatingFace apart;
+  FaceSeparation a, b;
+};
+
 // True when `face` of polygon b (placed in a's frame by `b_in_a`) still holds a apart by `apart`:
-// the very arithmetic max_face_separation does for that face, on that face's vertex and normal alone.
-bool b_face_separates(const FxShape& b, const FxTransform& b_in_a, int face, const PolygonView& poly_a, float apart) {
-  return separation_along(rotate(b_in_a.q, b.normals()[face]), transform_point(b_in_a, b.vertices()[face]),
-                          poly_a) >= apart;
+// the very arithmetic the face search does for that face, on that face's vertex and normal alone.
+template <bool a_is_box>
+bool b_face_separates(const PolygonView& poly_a, const FxShape& b, const FxTransform& b_in_a, int face, float apart) {
+  const SeparationOfA<a_is_box> separation_of_a(poly_a);
+  return separation_of_a(rotate(b_in_a.q, b.normals()[face]), transform_point(b_in_a, b.vertices()[face])) >= apart;
+}
+
+// The face searches of collide_polygons, in A's frame, after B's face tried first (if any) has not
+// parted the pair. Any face that separates the pair by `apart` ends them, and A's face tried first
+// is tried before the others. B's vertices and normals, placed in A's frame, are written to
+// `placed_b`: B's normals only once A's faces have not separated the two, as they do for most pairs
+// the broad phase finds. Instantiated for a centred box A, whose loops are closed forms, and for any A.
+template <bool a_is_box>
+FaceSearchResult search_faces(const PolygonView& poly_a, const FxShape& b, const FxTransform& b_in_a,
+                              SeparatingFace first_try, float apart, PlacedPolygon& placed_b) {
+  const PolygonView poly_b = placed_b.view();
+  using Owner = SeparatingFace::Owner;
+  const SeparationOfA<a_is_box> separation_of_a(poly_a);
+  for (int i = 0; i < poly_b.count; ++i) placed_b.vertices[i] = transform_point(b_in_a, b.vertices()[i]);
+  const SeparationOfB<a_is_box> separation_of_b(poly_a, poly_b);
+  if (first_try.owner == Owner::a && separation_of_b(first_try.edge) >= apart) return {first_try, {}, {}};
+  const int count_a = a_is_box ? 4 : poly_a.count;  // a box's four, known here: the loop unrolls
+  const FaceSeparation face_a = max_face_separation(count_a, apart, separation_of_b);
+  for (int i = 0; i < poly_b.count; ++i) placed_b.normals[i] = rotate(b_in_a.q, b.normals()[i]);
+  const FaceSeparation face_b = max_face_separation(poly_b.count, apart, [&](int i) {
+    return separation_of_a(poly_b.normals[i], poly_b.vertices[i]);
+  });
+  // Of two faces that part the pair, B's is named: trying it first places one of B's vertices, not all.
+  if (!(face_b.separation < apart)) return {{Owner::b, std::uint8_t(face_b.edge)}, face_a, face_b};
+  if (!(face_a.separation < apart)) return {{Owner::a, std::uint8_t(face_a.edge)}, face_a, face_b};
+  return {{}, face_a, face_b};
 }
 
 // The edge of `polygon` whose normal is most anti-parallel to `normal`.
@@ -199,36 +315,32 @@ void collide_polygon_circle(const FxShape& a, const FxTransform& xf_a, const FxS
 }
 
 void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
-                      float speculative_distance, SeparatingFace first_try, Manifold& out) {
+                      float speculative_distance, SeparatingFace first_try, Manifold& out, FaceSearch search) {
   out = Manifold{};
-  // Work in A's frame: A's vertices and normals as stored, B's placed relative to it. B's normals
-  // only once A's faces have not separated the two, as they do for most pairs the broad phase finds.
-  // Any face that separates the pair by the speculative distance ends the search with no points,
-  // so the face that did so last time is tried first, and the searches stop at the first one.
-  using Owner = SeparatingFace::Owner;
-  const auto apart_along = [&out](Owner owner, int edge) { out.separating_face = {owner, std::uint8_t(edge)}; };
+  // Work in A's frame: A's vertices and normals as stored, B's placed relative to it.
   const FxTransform b_in_a = inv_mul(xf_a, xf_b);
-  const int count_b = b.vertex_count();
   const PolygonView poly_a{a.vertices().data(), a.normals().data(), a.vertex_count()};
-  if (first_try.owner == Owner::b &&
-      b_face_separates(b, b_in_a, first_try.edge, poly_a, speculative_distance)) {
-    return apart_along(Owner::b, first_try.edge);
+  const bool a_is_box = search == FaceSearch::closed_form_for_boxes && a.centred_box();
+  // Any face that separates the pair by the speculative distance ends the search with no points,
+  // so the face that did so last time is tried first: B's before B is placed in A's frame.
+  if (first_try.owner == SeparatingFace::Owner::b &&
+      (a_is_box ? b_face_separates<true>(poly_a, b, b_in_a, first_try.edge, speculative_distance)
+                : b_face_separates<false>(poly_a, b, b_in_a, first_try.edge, speculative_distance))) {
+    out.separating_face = first_try;
+    return;
   }
-  std::array<FxVec2f, FxShape::max_vertices> b_vertices, b_normals;
-  for (int i = 0; i < count_b; ++i) b_vertices[i] = transform_point(b_in_a, b.vertices()[i]);
-  const PolygonView poly_b{b_vertices.data(), b_normals.data(), count_b};
-  // A's faces read only B's vertices; B's face tried first read only its own vertex and normal.
-  if (first_try.owner == Owner::a &&
-      separation_along(poly_a.normals[first_try.edge], poly_a.vertices[first_try.edge], poly_b) >=
-          speculative_distance) {
-    return apart_along(Owner::a, first_try.edge);
+  PlacedPolygon placed_b;
+  placed_b.count = b.vertex_count();
+  const PolygonView poly_b = placed_b.view();
+  const FaceSearchResult faces =
+      a_is_box ? search_faces<true>(poly_a, b, b_in_a, first_try, speculative_distance, placed_b)
+               : search_faces<false>(poly_a, b, b_in_a, first_try, speculative_distance, placed_b);
+  if (faces.apart.owner != SeparatingFace::Owner::none) {
+    out.separating_face = faces.apart;
+    return;
   }
-  const FaceSeparation face_a = max_face_separation(poly_a, poly_b, speculative_distance);
-  for (int i = 0; i < count_b; ++i) b_normals[i] = rotate(b_in_a.q, b.normals()[i]);
-  const FaceSeparation face_b = max_face_separation(poly_b, poly_a, speculative_distance);
-  // Of two faces that part the pair, B's is named: trying it first places one of B's vertices, not all.
-  if (!(face_b.separation < speculative_distance)) return apart_along(Owner::b, face_b.edge);
-  if (!(face_a.separation < speculative_distance)) return apart_along(Owner::a, face_a.edge);
+  const FaceSeparation face_a = faces.a;
+  const FaceSeparation face_b = faces.b;
 
   const bool reference_is_b = face_b.separation > face_a.separation + reference_face_hysteresis;
   const PolygonView& reference = reference_is_b ? poly_b : poly_a;

@@ -52,8 +52,13 @@ void collide_polygon_circle(const FxShape& a, const FxTransform& xf_a, const FxS
 // `first_try` is the face that separated the pair last time (the previous manifold's
 // separating_face, or none; an edge of that polygon): tried before the others, it changes only how
 // soon a separated pair is found apart, never the manifold.
+// A centred box as A (FxShape::centred_box) finds its faces' and B's faces' separations in
+// closed form, the same bits as the vertex loops every other pair runs; `search` lets a test run
+// the loops on a box to check that.
+enum class FaceSearch : std::uint8_t { closed_form_for_boxes, vertex_loops };
 void collide_polygons(const FxShape& a, const FxTransform& xf_a, const FxShape& b, const FxTransform& xf_b,
-                      float speculative_distance, SeparatingFace first_try, Manifold& out);
+                      float speculative_distance, SeparatingFace first_try, Manifold& out,
+                      FaceSearch search = FaceSearch::closed_form_for_boxes);
 
 // Dispatches on the two shape types. A circle-polygon pair is solved as polygon-circle and its
 // normal flipped, so the result always points from `a` to `b`.
