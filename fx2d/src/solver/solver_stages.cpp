@@ -70,30 +70,17 @@ void update_rest(const FxSceneSettings& settings, const BodySim& sim, BodyRecord
   if (speed_squared > sliding_speed * sliding_speed) record.sleep_time = 0.0f;
 }
 
-// Writes one body's pose and velocity back with carries, and refreshes its sleep time.
-// Touches that body's records alone, so bodies are finalized on several threads at once.
-// The limits come from the step (worked out once, not per body: the angular one divides).
-void finalize_body(const StepContext& step, const FxBodyState& state, BodySim& sim, BodyRecord& record) {
-  const FxRot start = sim.rotation;
-  FxRot end = mul(state.delta_rotation, start);
-  const float norm = std::sqrt(end.c * end.c + end.s * end.s);
-  end = {end.c / norm, end.s / norm};
-  // The origin moves with the centre of mass and swings about it as the body turns.
-  const FxVec2f origin_step = state.delta_position + rotate(start, sim.local_center) - rotate(end, sim.local_center);
-  FxCarryAdd(sim.origin, sim.carry, origin_step);
-  sim.rotation = end;
-  sim.linear_velocity = state.linear_velocity;
-  sim.angular_velocity = state.angular_velocity;
-  clamp_velocity(step.limits, sim);
+// Clears the force the step has applied and refreshes the sleep time of a body whose sim
+// write_back_bodies() has written.
+void finish_body(const StepContext& step, BodySim& sim, BodyRecord& record) {
   sim.force = {};
-
   update_rest(step.settings, sim, record);
 }
 
-// Refreshes the box of a body finalize_body() has written. compute_aabb() reads its transform
+// Refreshes the box of a body write_back_bodies() has written. compute_aabb() reads its transform
 // with one 16-byte load, and a load the CPU cannot forward from the narrower stores still in its
 // store buffer waits for them to reach the cache: so the boxes of a block are refreshed after the
-// whole block is finalized (the pose's four-byte stores long done), and the transform is written
+// whole block is written back (the pose's stores long done), and the transform is written
 // in one 16-byte store, not a temporary's two eight-byte ones (without both, the integrate stage
 // took 1.06 to 1.16 times as long on the canonical scenes).
 void refresh_box(BodySim& sim, BodyRecord& record, const BroadPhase& broad) {
@@ -255,9 +242,8 @@ void finalize_bodies(const StepContext& step, const SolverData& solver, Bodies& 
   step.tasks.for_each_range(static_cast<std::uint32_t>(moving.size()), bodies_per_block, min_parallel_bodies,
                             [&](std::uint32_t first, std::uint32_t last) {
                               const std::span<const std::uint32_t> block = moving.subspan(first, last - first);
-                              for (const std::uint32_t i : block) {
-                                finalize_body(step, solver.states[i], bodies.sims[i], bodies.records[i]);
-                              }
+                              write_back_bodies(block, solver.states.data(), bodies.sims.data(), step.limits);
+                              for (const std::uint32_t i : block) finish_body(step, bodies.sims[i], bodies.records[i]);
                               for (const std::uint32_t i : block) refresh_box(bodies.sims[i], bodies.records[i], broad);
                             });
 }
