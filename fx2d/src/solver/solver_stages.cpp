@@ -243,8 +243,10 @@ void finalize_bodies(const StepContext& step, const SolverData& solver, Bodies& 
                             [&](std::uint32_t first, std::uint32_t last) {
                               const std::span<const std::uint32_t> block = moving.subspan(first, last - first);
                               write_back_bodies(block, solver.states.data(), bodies.sims.data(), step.limits);
-                              for (const std::uint32_t i : block) finish_body(step, bodies.sims[i], bodies.records[i]);
-                              for (const std::uint32_t i : block) refresh_box(bodies.sims[i], bodies.records[i], broad);
+                              for (const std::uint32_t i : block) {
+                                finish_body(step, bodies.sims[i], bodies.records[i]);
+                                refresh_box(bodies.sims[i], bodies.records[i], broad);
+                              }
                             });
 }
 
