@@ -66,6 +66,23 @@ TEST(BodyIntegration, PositionLoopLeavesEachBodyAsItsScalarArithmeticDoes) {
   for (std::uint32_t i = 0; i < bodies; ++i) expect_same_bits(states[i], integrated_alone(before[i], h, limits), i);
 }
 
+// What write_back_bodies() does to one body's rest time, branch by branch.
+BodyRecord rested_alone(BodyRecord record, const BodySim& sim, const FxSceneSettings& settings) {
+  const float speed_squared = length_squared(sim.linear_velocity);
+  const bool slow = speed_squared < settings.linear_sleep_speed * settings.linear_sleep_speed &&
+                    sim.angular_velocity * sim.angular_velocity < settings.angular_sleep_speed * settings.angular_sleep_speed;
+  if (!slow || !record.can_sleep) {
+    record.sleep_time = 0.0f;
+    return record;
+  }
+  if (record.sleep_time == 0.0f) record.rest_start_speed = std::sqrt(speed_squared);
+  record.sleep_time += settings.dt;
+  if (record.sleep_time < settings.time_to_sleep) return record;
+  const float sliding_speed = record.rest_start_speed + 0.5f * settings.linear_sleep_speed;
+  if (speed_squared > sliding_speed * sliding_speed) record.sleep_time = 0.0f;
+  return record;
+}
+
 // What write_back_bodies() does to one body's sim: the pose advanced by the state's, the origin
 // with its carry, and the state's velocity, limited.
 BodySim written_back_alone(BodySim sim, const FxBodyState& state, SpeedLimits limits) {
@@ -98,9 +115,13 @@ void expect_same_bits(const BodySim& actual, const BodySim& expected, std::uint3
 }
 
 // A whole group with fast lanes, then a group of three (its lanes repeat the last body), in a
-// shuffled order that skips two bodies, which must stay as they were.
+// shuffled order that skips two bodies, which must stay as they were; the rest times take every
+// branch: too fast, spinning, unable to sleep, starting to rest, resting on, resting past
+// time_to_sleep, and sliding from rest.
 TEST(BodyIntegration, WriteBackLeavesEachSimAsItsScalarArithmeticDoes) {
   const SpeedLimits limits{10.0f, 50.0f};
+  FxSceneSettings settings;
+  settings.dt = 1.0f / 60.0f;
   constexpr float nan = std::numeric_limits<float>::quiet_NaN();
   constexpr std::uint32_t bodies = lane_count + 5;
   std::vector<FxBodyState> states(bodies);
@@ -121,14 +142,48 @@ TEST(BodyIntegration, WriteBackLeavesEachSimAsItsScalarArithmeticDoes) {
   states[3].angular_velocity = -80.0f;
   states[4].angular_velocity = nan;
   states[6].linear_velocity = {nan, 1.0f};
+  std::vector<BodyRecord> records(bodies);
+  const float time_to_sleep = settings.time_to_sleep;
+  struct Rest {
+    std::uint32_t body;
+    FxVec2f velocity;
+    float spin, sleep_time, rest_start_speed;
+    bool can_sleep;
+  };
+  for (const Rest& rest : {Rest{0, {0.01f, 0.02f}, 0.0f, 0.0f, 0.0f, true},                       // starts
+                           Rest{2, {0.01f, 0.02f}, 0.01f, 0.1f, 0.02f, true},                     // rests on
+                           Rest{5, {0.0f, 0.01f}, 0.0f, time_to_sleep, 0.001f, true},             // past it
+                           Rest{7, {0.03f, 0.03f}, 0.0f, time_to_sleep, 0.001f, true},            // slides
+                           Rest{9, {0.01f, 0.0f}, 0.2f, 0.3f, 0.01f, true},                       // spins
+                           Rest{10, {0.01f, 0.0f}, 0.0f, 0.3f, 0.01f, false},                     // cannot
+                           Rest{12, {0.2f, 0.0f}, 0.0f, 0.3f, 0.01f, true}}) {                    // too fast
+    states[rest.body].linear_velocity = rest.velocity;
+    states[rest.body].angular_velocity = rest.spin;
+    records[rest.body].sleep_time = rest.sleep_time;
+    records[rest.body].rest_start_speed = rest.rest_start_speed;
+    records[rest.body].can_sleep = rest.can_sleep;
+  }
   const std::vector<std::uint32_t> block = {12, 0, 3, 1, 5, 4, 6, 2, 9, 7, 10};  // not 8 or 11
   const std::vector<BodySim> before = sims;
+  const std::vector<BodyRecord> records_before = records;
 
-  write_back_bodies(block, states.data(), sims.data(), limits);
+  write_back_bodies(block, states.data(), sims.data(), records.data(), limits, settings);
 
   std::vector<BodySim> expected = before;
-  for (const std::uint32_t i : block) expected[i] = written_back_alone(before[i], states[i], limits);
-  for (std::uint32_t i = 0; i < bodies; ++i) expect_same_bits(sims[i], expected[i], i);
+  std::vector<BodyRecord> expected_records = records_before;
+  for (const std::uint32_t i : block) {
+    expected[i] = written_back_alone(before[i], states[i], limits);
+    expected_records[i] = rested_alone(records_before[i], expected[i], settings);
+  }
+  for (std::uint32_t i = 0; i < bodies; ++i) {
+    expect_same_bits(sims[i], expected[i], i);
+    EXPECT_EQ(bits(records[i].sleep_time), bits(expected_records[i].sleep_time)) << "body " << i;
+    EXPECT_EQ(bits(records[i].rest_start_speed), bits(expected_records[i].rest_start_speed)) << "body " << i;
+  }
+  // The branches above were taken: one body starts to rest, one slides, one rests on past it.
+  EXPECT_GT(records[0].rest_start_speed, 0.0f);
+  EXPECT_EQ(records[7].sleep_time, 0.0f);
+  EXPECT_GT(records[5].sleep_time, time_to_sleep);
 }
 
 }  // namespace

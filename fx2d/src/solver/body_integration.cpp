@@ -138,8 +138,50 @@ static_assert(offsetof(BodySim, linear_velocity) == sim_velocity_row && offsetof
   return repeated;
 }
 
+// A body that speeds up by this share of linear_sleep_speed while it rests is sliding, not resting.
+constexpr float rest_speed_gain_share = 0.5f;
+
+struct RestColumns {
+  alignas(32) float sleep_time[lane_count];
+  alignas(32) float rest_start_speed[lane_count];
+  alignas(32) std::int32_t can_sleep[lane_count];
+};
+
+// Counts how long each lane's body has rested: slower than the sleep speeds, and not speeding up.
+// Speed alone would put to sleep a box that slides from rest at less than linear_sleep_speed /
+// time_to_sleep (0.1 m/s^2): it falls asleep before it reaches the sleep speed, and stability's
+// friction_ramp found a mu = 2.28 box stopped on a 66.5 degree slope that Coulomb friction slides
+// at 0.0996 m/s^2. So a body that has gained half the sleep speed since it began to rest
+// (accelerating at 0.05 m/s^2 or more over time_to_sleep) starts its rest anew. Settling bodies
+// only slow down, and a resting one's speed jitters far below that, so neither sleeps later.
+// Reads the limited velocities; every lane computes every branch and keeps the one it takes.
+[[gnu::always_inline]] inline void count_rest_lanes(const float* vx, const float* vy, const float* w, RestColumns& rest,
+                                                    const FxSceneSettings& settings) {
+  const float linear_squared = settings.linear_sleep_speed * settings.linear_sleep_speed;
+  const float angular_squared = settings.angular_sleep_speed * settings.angular_sleep_speed;
+  const float sliding_gain = rest_speed_gain_share * settings.linear_sleep_speed;
+  const float dt = settings.dt, time_to_sleep = settings.time_to_sleep;
+  // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
+#pragma GCC unroll 1
+  for (int lane = 0; lane < lane_count; ++lane) {
+    const float speed_squared = vx[lane] * vx[lane] + vy[lane] * vy[lane];
+    // & rather than &&: a branch would keep the loop scalar.
+    const bool resting =
+        (speed_squared < linear_squared) & (w[lane] * w[lane] < angular_squared) & (rest.can_sleep[lane] != 0);
+    const float sleep_time = rest.sleep_time[lane];
+    const float speed = std::sqrt(speed_squared);  // for every lane, as a branch would keep it scalar
+    const float start_speed = resting & (sleep_time == 0.0f) ? speed : rest.rest_start_speed[lane];
+    const float rested = resting ? sleep_time + dt : 0.0f;
+    const float sliding_speed = start_speed + sliding_gain;
+    const bool sliding = !(rested < time_to_sleep) & (speed_squared > sliding_speed * sliding_speed);
+    rest.rest_start_speed[lane] = start_speed;
+    rest.sleep_time[lane] = sliding ? 0.0f : rested;
+  }
+}
+
 FX2D_LANE_KERNEL void write_back_groups(const std::uint32_t* body, std::size_t count, const FxBodyState* states,
-                                        BodySim* sims, SpeedLimits limits) {
+                                        BodySim* sims, BodyRecord* records, SpeedLimits limits,
+                                        const FxSceneSettings& settings) {
   for (std::size_t first = 0; first < count; first += lane_count) {
     std::uint32_t repeated[lane_count];
     const std::uint32_t* group = whole_group(body + first, count - first, repeated);
@@ -175,6 +217,19 @@ FX2D_LANE_KERNEL void write_back_groups(const std::uint32_t* body, std::size_t c
       w[lane] = limited_spin(w[lane], limits.max_spin);
     }
     slow_fast_lanes(vx, vy, speed_squared, limits.max_speed);
+    RestColumns rest;
+    for (int lane = 0; lane < lane_count; ++lane) {
+      const BodyRecord& record = records[group[lane]];
+      rest.sleep_time[lane] = record.sleep_time;
+      rest.rest_start_speed[lane] = record.rest_start_speed;
+      rest.can_sleep[lane] = record.can_sleep;
+    }
+    count_rest_lanes(vx, vy, w, rest, settings);
+    for (int lane = 0; lane < lane_count; ++lane) {
+      BodyRecord& record = records[group[lane]];
+      record.sleep_time = rest.sleep_time[lane];
+      record.rest_start_speed = rest.rest_start_speed[lane];
+    }
     from_lanes(ox, place.c0), from_lanes(oy, place.c1), from_lanes(kx, place.c2), from_lanes(ky, place.c3);
     from_lanes(rc, turn.c0), from_lanes(rs, turn.c1);
     from_lanes(vx, sim_velocity.c0), from_lanes(vy, sim_velocity.c1), from_lanes(w, sim_velocity.c2);
@@ -187,8 +242,8 @@ FX2D_LANE_KERNEL void write_back_groups(const std::uint32_t* body, std::size_t c
 }  // namespace
 
 void write_back_bodies(std::span<const std::uint32_t> bodies, const FxBodyState* states, BodySim* sims,
-                       SpeedLimits limits) {
-  write_back_groups(bodies.data(), bodies.size(), states, sims, limits);
+                       BodyRecord* records, SpeedLimits limits, const FxSceneSettings& settings) {
+  write_back_groups(bodies.data(), bodies.size(), states, sims, records, limits, settings);
 }
 
 void BodyIntegration::reserve(std::size_t bodies) {

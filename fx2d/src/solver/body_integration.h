@@ -31,12 +31,13 @@ namespace fx2d::detail {
 inline constexpr std::uint32_t bodies_per_block = 128;
 inline constexpr std::uint32_t min_parallel_bodies = 512;
 
-// The step's end for a block of `bodies` (each once; states and sims indexed alike): the sim's
-// rotation becomes the state's rotation times it, normalised, and its origin (with its carry) moves
-// with the state's displacement of the centre of mass; its velocity becomes the state's, limited.
-// Writes those bodies' sims alone, so blocks are written back on several threads at once.
+// The step's end for a block of `bodies` (each once; states, sims and records indexed alike): the
+// sim's rotation becomes the state's rotation times it, normalised, and its origin (with its carry)
+// moves with the state's displacement of the centre of mass; its velocity becomes the state's,
+// limited; and the record's rest time counts on while the body rests (body_integration.cpp).
+// Writes those bodies' sims and records alone, so blocks are written back on several threads.
 void write_back_bodies(std::span<const std::uint32_t> bodies, const FxBodyState* states, BodySim* sims,
-                       SpeedLimits limits);
+                       BodyRecord* records, SpeedLimits limits, const FxSceneSettings& settings);
 
 class BodyIntegration {
  public:
