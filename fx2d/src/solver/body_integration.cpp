@@ -3,7 +3,9 @@
 // the speed limit is slowed by the scalar slowed_to(), defined here too.
 #include "solver/body_integration.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 #include "solver/lane_rows.h"
 
@@ -115,7 +117,134 @@ FX2D_LANE_KERNEL void integrate_position_groups(const std::uint32_t* body, std::
   }
 }
 
+// The rows of BodySim the write-back reads and writes, by byte offset.
+constexpr std::size_t sim_place_row = 0;      // origin, carry
+constexpr std::size_t sim_turn_row = 16;      // rotation, local_center
+constexpr std::size_t sim_velocity_row = 32;  // linear_velocity, angular_velocity, inv_mass
+static_assert(offsetof(BodySim, origin) == sim_place_row && offsetof(BodySim, carry) == 8,
+              "the place row is origin and carry");
+static_assert(offsetof(BodySim, rotation) == sim_turn_row && offsetof(BodySim, local_center) == 24,
+              "the turn row is rotation and local centre");
+static_assert(offsetof(BodySim, linear_velocity) == sim_velocity_row && offsetof(BodySim, angular_velocity) == 40 &&
+                  offsetof(BodySim, inv_mass) == 44,
+              "the velocity row is velocity, spin and inverse mass");
+
+// The group of eight at `body`, or, for the last `count` < 8 bodies of a block, those bodies with
+// the last repeated: a repeated lane computes and writes the same values as the lane it repeats.
+[[gnu::always_inline]] inline const std::uint32_t* whole_group(const std::uint32_t* body, std::size_t count,
+                                                                std::uint32_t* repeated) {
+  if (count >= lane_count) return body;
+  for (std::size_t lane = 0; lane < lane_count; ++lane) repeated[lane] = body[std::min(lane, count - 1)];
+  return repeated;
+}
+
+// A body that speeds up by this share of linear_sleep_speed while it rests is sliding, not resting.
+constexpr float rest_speed_gain_share = 0.5f;
+
+struct RestColumns {
+  alignas(32) float sleep_time[lane_count];
+  alignas(32) float rest_start_speed[lane_count];
+  alignas(32) std::int32_t can_sleep[lane_count];
+};
+
+// Counts how long each lane's body has rested: slower than the sleep speeds, and not speeding up.
+// Speed alone would put to sleep a box that slides from rest at less than linear_sleep_speed /
+// time_to_sleep (0.1 m/s^2): it falls asleep before it reaches the sleep speed, and stability's
+// friction_ramp found a mu = 2.28 box stopped on a 66.5 degree slope that Coulomb friction slides
+// at 0.0996 m/s^2. So a body that has gained half the sleep speed since it began to rest
+// (accelerating at 0.05 m/s^2 or more over time_to_sleep) starts its rest anew. Settling bodies
+// only slow down, and a resting one's speed jitters far below that, so neither sleeps later.
+// Reads the limited velocities; every lane computes every branch and keeps the one it takes.
+[[gnu::always_inline]] inline void count_rest_lanes(const float* vx, const float* vy, const float* w, RestColumns& rest,
+                                                    const FxSceneSettings& settings) {
+  const float linear_squared = settings.linear_sleep_speed * settings.linear_sleep_speed;
+  const float angular_squared = settings.angular_sleep_speed * settings.angular_sleep_speed;
+  const float sliding_gain = rest_speed_gain_share * settings.linear_sleep_speed;
+  const float dt = settings.dt, time_to_sleep = settings.time_to_sleep;
+  // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
+#pragma GCC unroll 1
+  for (int lane = 0; lane < lane_count; ++lane) {
+    const float speed_squared = vx[lane] * vx[lane] + vy[lane] * vy[lane];
+    // & rather than &&: a branch would keep the loop scalar.
+    const bool resting =
+        (speed_squared < linear_squared) & (w[lane] * w[lane] < angular_squared) & (rest.can_sleep[lane] != 0);
+    const float sleep_time = rest.sleep_time[lane];
+    const float speed = std::sqrt(speed_squared);  // for every lane, as a branch would keep it scalar
+    const float start_speed = resting & (sleep_time == 0.0f) ? speed : rest.rest_start_speed[lane];
+    const float rested = resting ? sleep_time + dt : 0.0f;
+    const float sliding_speed = start_speed + sliding_gain;
+    const bool sliding = !(rested < time_to_sleep) & (speed_squared > sliding_speed * sliding_speed);
+    rest.rest_start_speed[lane] = start_speed;
+    rest.sleep_time[lane] = sliding ? 0.0f : rested;
+  }
+}
+
+FX2D_LANE_KERNEL void write_back_groups(const std::uint32_t* body, std::size_t count, const FxBodyState* states,
+                                        BodySim* sims, BodyRecord* records, SpeedLimits limits,
+                                        const FxSceneSettings& settings) {
+  for (std::size_t first = 0; first < count; first += lane_count) {
+    std::uint32_t repeated[lane_count];
+    const std::uint32_t* group = whole_group(body + first, count - first, repeated);
+    LaneColumns velocity, pose, place, turn, sim_velocity;
+    gather_columns<velocity_row>(states, group, velocity);
+    gather_columns<pose_row>(states, group, pose);
+    gather_columns<sim_place_row>(sims, group, place);
+    gather_columns<sim_turn_row>(sims, group, turn);
+    gather_columns<sim_velocity_row>(sims, group, sim_velocity);
+    alignas(32) float dpx[lane_count], dpy[lane_count], dqc[lane_count], dqs[lane_count];
+    to_lanes(pose.c0, dpx), to_lanes(pose.c1, dpy), to_lanes(pose.c2, dqc), to_lanes(pose.c3, dqs);
+    alignas(32) float ox[lane_count], oy[lane_count], kx[lane_count], ky[lane_count];
+    to_lanes(place.c0, ox), to_lanes(place.c1, oy), to_lanes(place.c2, kx), to_lanes(place.c3, ky);
+    alignas(32) float rc[lane_count], rs[lane_count], lx[lane_count], ly[lane_count];
+    to_lanes(turn.c0, rc), to_lanes(turn.c1, rs), to_lanes(turn.c2, lx), to_lanes(turn.c3, ly);
+    alignas(32) float vx[lane_count], vy[lane_count], w[lane_count], speed_squared[lane_count];
+    to_lanes(velocity.c0, vx), to_lanes(velocity.c1, vy), to_lanes(velocity.c2, w);
+    // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
+#pragma GCC unroll 1
+    for (int lane = 0; lane < lane_count; ++lane) {
+      const FxRot start{rc[lane], rs[lane]};
+      FxRot end = mul(FxRot{dqc[lane], dqs[lane]}, start);
+      const float norm = std::sqrt(end.c * end.c + end.s * end.s);
+      end = {end.c / norm, end.s / norm};
+      // The origin moves with the centre of mass and swings about it as the body turns.
+      const FxVec2f local_center{lx[lane], ly[lane]};
+      const FxVec2f origin_step =
+          FxVec2f{dpx[lane], dpy[lane]} + rotate(start, local_center) - rotate(end, local_center);
+      FxCarryAdd(ox[lane], kx[lane], origin_step.x);
+      FxCarryAdd(oy[lane], ky[lane], origin_step.y);
+      rc[lane] = end.c, rs[lane] = end.s;
+      speed_squared[lane] = vx[lane] * vx[lane] + vy[lane] * vy[lane];
+      w[lane] = limited_spin(w[lane], limits.max_spin);
+    }
+    slow_fast_lanes(vx, vy, speed_squared, limits.max_speed);
+    RestColumns rest;
+    for (int lane = 0; lane < lane_count; ++lane) {
+      const BodyRecord& record = records[group[lane]];
+      rest.sleep_time[lane] = record.sleep_time;
+      rest.rest_start_speed[lane] = record.rest_start_speed;
+      rest.can_sleep[lane] = record.can_sleep;
+    }
+    count_rest_lanes(vx, vy, w, rest, settings);
+    for (int lane = 0; lane < lane_count; ++lane) {
+      BodyRecord& record = records[group[lane]];
+      record.sleep_time = rest.sleep_time[lane];
+      record.rest_start_speed = rest.rest_start_speed[lane];
+    }
+    from_lanes(ox, place.c0), from_lanes(oy, place.c1), from_lanes(kx, place.c2), from_lanes(ky, place.c3);
+    from_lanes(rc, turn.c0), from_lanes(rs, turn.c1);
+    from_lanes(vx, sim_velocity.c0), from_lanes(vy, sim_velocity.c1), from_lanes(w, sim_velocity.c2);
+    scatter_columns<sim_place_row>(sims, group, place);
+    scatter_columns<sim_turn_row>(sims, group, turn);
+    scatter_columns<sim_velocity_row>(sims, group, sim_velocity);
+  }
+}
+
 }  // namespace
+
+void write_back_bodies(std::span<const std::uint32_t> bodies, const FxBodyState* states, BodySim* sims,
+                       BodyRecord* records, SpeedLimits limits, const FxSceneSettings& settings) {
+  write_back_groups(bodies.data(), bodies.size(), states, sims, records, limits, settings);
+}
 
 void BodyIntegration::reserve(std::size_t bodies) {
   const std::size_t padded = bodies + lane_count;

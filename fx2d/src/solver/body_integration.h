@@ -1,6 +1,7 @@
 // The substep's two body loops, eight bodies at a time: velocity integration (gravity, forces,
 // damping) of the awake dynamic bodies, and position integration of every awake moving body,
-// each with the speed limits applied first.
+// each with the speed limits applied first; and, at the step's end, the write-back of every awake
+// moving body's pose and velocity to its sim, eight at a time too.
 //
 // Invariants:
 // - both body lists are padded to whole groups of eight with the padding body, whose state is
@@ -18,6 +19,7 @@
 
 #include "fx2d/Constraint.h"
 #include "fx2d/Math.h"
+#include "world/bodies.h"
 #include "world/speed_limits.h"
 #include "world/tasks.h"
 
@@ -28,6 +30,14 @@ namespace fx2d::detail {
 // worker one range of whole groups of eight (Tasks::per_worker), the same share in every loop of
 // the step, so that a body's state stays in the cache of the core that integrates it.
 inline constexpr std::uint32_t min_parallel_bodies = 512;
+
+// The step's end for a block of `bodies` (each once; states, sims and records indexed alike): the
+// sim's rotation becomes the state's rotation times it, normalised, and its origin (with its carry)
+// moves with the state's displacement of the centre of mass; its velocity becomes the state's,
+// limited; and the record's rest time counts on while the body rests (body_integration.cpp).
+// Writes those bodies' sims and records alone, so blocks are written back on several threads.
+void write_back_bodies(std::span<const std::uint32_t> bodies, const FxBodyState* states, BodySim* sims,
+                       BodyRecord* records, SpeedLimits limits, const FxSceneSettings& settings);
 
 class BodyIntegration {
  public:

@@ -1,5 +1,6 @@
 // Eight body states read as rows and turned into eight-lane columns, and back: what the solver's
-// lane loops (contact batches, body integration) gather before they run and scatter after.
+// lane loops (contact batches, body integration) gather before they run and scatter after. The
+// same transposes read and write any other per-body record in 16-byte rows (a BodySim).
 //
 // An FxBodyState is 32 bytes, two 16-byte rows: (vx, vy, w, flags) and (dpx, dpy, dqc, dqs). Eight
 // rows become four eight-lane columns in eight row loads and eight in-half shuffles, instead of 32
@@ -10,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #include "fx2d/Constraint.h"
 
@@ -48,10 +50,11 @@ struct LaneColumns {
   LaneColumn c0, c1, c2, c3;
 };
 
-template <std::size_t Row>
-[[gnu::always_inline]] inline LaneRow load_row(const FxBodyState& state) {
+// Row `Row` (a byte offset) of a body's record: an FxBodyState, or any record with 16-byte rows.
+template <std::size_t Row, typename Record>
+[[gnu::always_inline]] inline LaneRow load_row(const Record& record) {
   LaneRow row;
-  std::memcpy(&row, reinterpret_cast<const unsigned char*>(&state) + Row, sizeof row);
+  std::memcpy(&row, reinterpret_cast<const unsigned char*>(&record) + Row, sizeof row);
   return row;
 }
 
@@ -60,8 +63,8 @@ template <std::size_t Row>
 // pairs), as the 256-bit unpack and shuffle instructions work, so no shuffle crosses the halves.
 // Written out, not in helper functions: a 32-byte vector passed by value changes the ABI between
 // the AVX2 and default clones, and so does `c` returned instead of filled.
-template <std::size_t Row>
-[[gnu::always_inline]] inline void gather_columns(const FxBodyState* __restrict states, const std::uint32_t* body,
+template <std::size_t Row, typename Record>
+[[gnu::always_inline]] inline void gather_columns(const Record* __restrict states, const std::uint32_t* body,
                                                   LaneColumns& c) {
   LaneColumn r[4];
   for (int i = 0; i < 4; ++i) {
@@ -78,9 +81,9 @@ template <std::size_t Row>
   c.c3 = __builtin_shufflevector(t1, t3, 2, 3, 10, 11, 6, 7, 14, 15);
 }
 
-template <std::size_t Row>
-[[gnu::always_inline]] inline void store_row(FxBodyState& state, const unsigned char* row) {
-  std::memcpy(reinterpret_cast<unsigned char*>(&state) + Row, row, sizeof(LaneRow));
+template <std::size_t Row, typename Record>
+[[gnu::always_inline]] inline void store_row(Record& record, const unsigned char* row) {
+  std::memcpy(reinterpret_cast<unsigned char*>(&record) + Row, row, sizeof(LaneRow));
 }
 
 // FxBodyState::flags of a body whose state contacts change (a dynamic, awake one); zero for the
@@ -99,10 +102,11 @@ inline constexpr std::uint32_t movable_flag = 1;
 // the rows are written in the order 0, 4, 1, 5, ... With `MovableOnly` (velocity rows only), the
 // rows of bodies without movable_flag, which those shared lanes carry unchanged, are not written
 // at all: other threads may be reading or writing those same bodies at once.
-template <std::size_t Row, bool MovableOnly = false>
-[[gnu::always_inline]] inline void scatter_columns(FxBodyState* __restrict states, const std::uint32_t* body,
+template <std::size_t Row, bool MovableOnly = false, typename Record>
+[[gnu::always_inline]] inline void scatter_columns(Record* __restrict states, const std::uint32_t* body,
                                                    const LaneColumns& c) {
-  static_assert(!MovableOnly || Row == velocity_row, "only a velocity row carries the flags");
+  static_assert(!MovableOnly || (Row == velocity_row && std::is_same_v<Record, FxBodyState>),
+                "only a state's velocity row carries the flags");
   // The same two rounds of in-half interleaving, which undo each other.
   const LaneColumn t0 = __builtin_shufflevector(c.c0, c.c1, 0, 8, 1, 9, 4, 12, 5, 13);
   const LaneColumn t1 = __builtin_shufflevector(c.c0, c.c1, 2, 10, 3, 11, 6, 14, 7, 15);

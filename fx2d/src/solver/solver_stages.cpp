@@ -45,55 +45,10 @@ FxVec2f clamped_acceleration(FxVec2f acceleration, float bound) {
   return {std::clamp(acceleration.x, -bound, bound), std::clamp(acceleration.y, -bound, bound)};
 }
 
-// A body that speeds up by this share of linear_sleep_speed while it rests is sliding, not resting.
-constexpr float rest_speed_gain_share = 0.5f;
-
-// Counts how long a body has rested: slower than the sleep speeds, and not speeding up. Speed alone
-// would put to sleep a box that slides from rest at less than linear_sleep_speed / time_to_sleep
-// (0.1 m/s^2): it falls asleep before it reaches the sleep speed, and stability's friction_ramp
-// found a mu = 2.28 box stopped on a 66.5 degree slope that Coulomb friction slides at 0.0996
-// m/s^2. So a body that has gained half the sleep speed since it began to rest (accelerating at
-// 0.05 m/s^2 or more over time_to_sleep) starts its rest anew. Settling bodies only slow down,
-// and a resting one's speed jitters far below that, so neither sleeps later.
-void update_rest(const FxSceneSettings& settings, const BodySim& sim, BodyRecord& record) {
-  const float speed_squared = length_squared(sim.linear_velocity);
-  const bool slow = speed_squared < settings.linear_sleep_speed * settings.linear_sleep_speed &&
-                    sim.angular_velocity * sim.angular_velocity < settings.angular_sleep_speed * settings.angular_sleep_speed;
-  if (!slow || !record.can_sleep) {
-    record.sleep_time = 0.0f;
-    return;
-  }
-  if (record.sleep_time == 0.0f) record.rest_start_speed = std::sqrt(speed_squared);
-  record.sleep_time += settings.dt;
-  if (record.sleep_time < settings.time_to_sleep) return;
-  const float sliding_speed = record.rest_start_speed + rest_speed_gain_share * settings.linear_sleep_speed;
-  if (speed_squared > sliding_speed * sliding_speed) record.sleep_time = 0.0f;
-}
-
-// Writes one body's pose and velocity back with carries, and refreshes its sleep time.
-// Touches that body's records alone, so bodies are finalized on several threads at once.
-// The limits come from the step (worked out once, not per body: the angular one divides).
-void finalize_body(const StepContext& step, const FxBodyState& state, BodySim& sim, BodyRecord& record) {
-  const FxRot start = sim.rotation;
-  FxRot end = mul(state.delta_rotation, start);
-  const float norm = std::sqrt(end.c * end.c + end.s * end.s);
-  end = {end.c / norm, end.s / norm};
-  // The origin moves with the centre of mass and swings about it as the body turns.
-  const FxVec2f origin_step = state.delta_position + rotate(start, sim.local_center) - rotate(end, sim.local_center);
-  FxCarryAdd(sim.origin, sim.carry, origin_step);
-  sim.rotation = end;
-  sim.linear_velocity = state.linear_velocity;
-  sim.angular_velocity = state.angular_velocity;
-  clamp_velocity(step.limits, sim);
-  sim.force = {};
-
-  update_rest(step.settings, sim, record);
-}
-
-// Refreshes the box of a body finalize_body() has written. compute_aabb() reads its transform
+// Refreshes the box of a body write_back_bodies() has written. compute_aabb() reads its transform
 // with one 16-byte load, and a load the CPU cannot forward from the narrower stores still in its
 // store buffer waits for them to reach the cache: so the boxes of a block are refreshed after the
-// whole block is finalized (the pose's four-byte stores long done), and the transform is written
+// whole block is written back (the pose's stores long done), and the transform is written
 // in one 16-byte store, not a temporary's two eight-byte ones (without both, the integrate stage
 // took 1.06 to 1.16 times as long on the canonical scenes).
 void refresh_box(BodySim& sim, BodyRecord& record, const BroadPhase& broad) {
@@ -256,10 +211,12 @@ void finalize_bodies(const StepContext& step, const SolverData& solver, Bodies& 
   step.tasks.for_each_range(count, step.tasks.per_worker(count, lane_count), min_parallel_bodies,
                             [&](std::uint32_t first, std::uint32_t last) {
                               const std::span<const std::uint32_t> block = moving.subspan(first, last - first);
+                              write_back_bodies(block, solver.states.data(), bodies.sims.data(),
+                                                bodies.records.data(), step.limits, step.settings);
                               for (const std::uint32_t i : block) {
-                                finalize_body(step, solver.states[i], bodies.sims[i], bodies.records[i]);
+                                bodies.sims[i].force = {};
+                                refresh_box(bodies.sims[i], bodies.records[i], broad);
                               }
-                              for (const std::uint32_t i : block) refresh_box(bodies.sims[i], bodies.records[i], broad);
                             });
 }
 

@@ -46,8 +46,8 @@ void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& b
 void apply_restitution(const StepContext& step, SolverData& solver);
 // Stage position_solve: projects what overlap remains deeper than the slop.
 void solve_positions(const StepContext& step, SolverData& solver);
-// Stage integrate (its end): writes poses and velocities back to the bodies, with carries, and
-// refreshes their boxes.
+// Stage integrate (its end): writes poses and velocities back to the bodies, with carries, counts
+// their rest times, clears their forces and refreshes their boxes.
 void finalize_bodies(const StepContext& step, const SolverData& solver, Bodies& bodies, const BroadPhase& broad);
 // Stage store: keeps each point's impulses in the contact cache for the next step's warm start.
 void store_impulses(const SolverData& solver, ContactCache& contacts);

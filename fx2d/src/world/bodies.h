@@ -33,7 +33,7 @@ struct BodyRecord {
   float linear_damping = 0.0f;
   float angular_damping = 0.0f;
   float sleep_time = 0.0f;     // seconds it has been resting
-  float rest_start_speed = 0.0f;  // m/s, its speed when it began to rest (solver_stages.cpp)
+  float rest_start_speed = 0.0f;  // m/s, its speed when it began to rest (body_integration.cpp)
   float inner_extent = 0.0f;   // metres from the shape's centroid to its nearest surface
   int proxy = AabbTree::null_node;
   int contact_head = -1;       // first contact edge touching this body (contact_cache.h)
