@@ -170,7 +170,7 @@ struct RestColumns {
         (speed_squared < linear_squared) & (w[lane] * w[lane] < angular_squared) & (rest.can_sleep[lane] != 0);
     const float sleep_time = rest.sleep_time[lane];
     const float speed = std::sqrt(speed_squared);  // for every lane, as a branch would keep it scalar
-    const float start_speed = resting & (sleep_time == 0.0f) ? speed : rest.rest_start_speed[lane];
+    const float start_speed = (resting & (sleep_time == 0.0f)) ? speed : rest.rest_start_speed[lane];
     const float rested = resting ? sleep_time + dt : 0.0f;
     const float sliding_speed = start_speed + sliding_gain;
     const bool sliding = !(rested < time_to_sleep) & (speed_squared > sliding_speed * sliding_speed);
