@@ -117,18 +117,6 @@ FX2D_LANE_KERNEL void integrate_position_groups(const std::uint32_t* body, std::
   }
 }
 
-// The rows of BodySim the write-back reads and writes, by byte offset.
-constexpr std::size_t sim_place_row = 0;      // origin, carry
-constexpr std::size_t sim_turn_row = 16;      // rotation, local_center
-constexpr std::size_t sim_velocity_row = 32;  // linear_velocity, angular_velocity, inv_mass
-static_assert(offsetof(BodySim, origin) == sim_place_row && offsetof(BodySim, carry) == 8,
-              "the place row is origin and carry");
-static_assert(offsetof(BodySim, rotation) == sim_turn_row && offsetof(BodySim, local_center) == 24,
-              "the turn row is rotation and local centre");
-static_assert(offsetof(BodySim, linear_velocity) == sim_velocity_row && offsetof(BodySim, angular_velocity) == 40 &&
-                  offsetof(BodySim, inv_mass) == 44,
-              "the velocity row is velocity, spin and inverse mass");
-
 // The group of eight at `body`, or, for the last `count` < 8 bodies of a block, those bodies with
 // the last repeated: a repeated lane computes and writes the same values as the lane it repeats.
 [[gnu::always_inline]] inline const std::uint32_t* whole_group(const std::uint32_t* body, std::size_t count,

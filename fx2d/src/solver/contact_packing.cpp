@@ -30,7 +30,8 @@ constexpr std::uint32_t min_parallel_batch_builds = min_parallel_constraints / l
 
 // What the lanes of a batch work out together from what their contacts and bodies bring
 // (derive_points): each lane's bodies' poses, centres of mass and velocities, its points and
-// frictions. Copied here lane by lane, so that the arithmetic runs on all eight lanes at once.
+// frictions. Copied here (the bodies' as whole rows, gather_bodies()), so that the arithmetic runs
+// on all eight lanes at once.
 struct LaneInputs {
   // Per body: rotation, centre of mass in the body frame, origin and its carry, velocities.
   float rotation_ac[lane_count], rotation_as[lane_count], rotation_bc[lane_count], rotation_bs[lane_count];
@@ -46,46 +47,21 @@ struct LaneInputs {
   float separation[2][lane_count];
 };
 
-// What one contact brings to its lane: what the passes read of it as it is (bodies, normal,
-// inverse masses, restitution, impulses) straight into the batch; what is worked out from it into
-// `in`. Writes that lane alone. `Points` is the contact's point count, the batch's.
+// What one contact brings to its lane, besides its bodies' rows: what the passes read of it as it
+// is (bodies, normal, inverse inertias, restitution, impulses) straight into the batch; what is
+// worked out from it into `in`. Writes that lane alone. `Points` is the contact's point count,
+// the batch's.
 template <int Points>
 void gather_lane(ContactBatch& k, LaneInputs& in, int lane, const ConstraintSource& source,
                  const CachedContact& contact, const Bodies& bodies) {
-  const BodySim& sim_a = bodies.sims[source.body_a];
-  const BodySim& sim_b = bodies.sims[source.body_b];
   k.body_a[lane] = source.body_a;
   k.body_b[lane] = source.body_b;
   k.normal_x[lane] = contact.manifold.normal.x;
   k.normal_y[lane] = contact.manifold.normal.y;
   k.normal_frame[lane] = static_cast<std::int32_t>(contact.manifold.normal_frame);
-  k.inv_mass_a[lane] = sim_a.inv_mass;
-  k.inv_mass_b[lane] = sim_b.inv_mass;
-  k.inv_inertia_a[lane] = sim_a.inv_inertia;
-  k.inv_inertia_b[lane] = sim_b.inv_inertia;
+  k.inv_inertia_a[lane] = bodies.sims[source.body_a].inv_inertia;
+  k.inv_inertia_b[lane] = bodies.sims[source.body_b].inv_inertia;
   k.restitution[lane] = contact.restitution;
-  in.rotation_ac[lane] = sim_a.rotation.c;
-  in.rotation_as[lane] = sim_a.rotation.s;
-  in.rotation_bc[lane] = sim_b.rotation.c;
-  in.rotation_bs[lane] = sim_b.rotation.s;
-  in.local_center_ax[lane] = sim_a.local_center.x;
-  in.local_center_ay[lane] = sim_a.local_center.y;
-  in.local_center_bx[lane] = sim_b.local_center.x;
-  in.local_center_by[lane] = sim_b.local_center.y;
-  in.origin_ax[lane] = sim_a.origin.x;
-  in.origin_ay[lane] = sim_a.origin.y;
-  in.origin_bx[lane] = sim_b.origin.x;
-  in.origin_by[lane] = sim_b.origin.y;
-  in.carry_ax[lane] = sim_a.carry.x;
-  in.carry_ay[lane] = sim_a.carry.y;
-  in.carry_bx[lane] = sim_b.carry.x;
-  in.carry_by[lane] = sim_b.carry.y;
-  in.velocity_ax[lane] = sim_a.linear_velocity.x;
-  in.velocity_ay[lane] = sim_a.linear_velocity.y;
-  in.velocity_bx[lane] = sim_b.linear_velocity.x;
-  in.velocity_by[lane] = sim_b.linear_velocity.y;
-  in.spin_a[lane] = sim_a.angular_velocity;
-  in.spin_b[lane] = sim_b.angular_velocity;
   in.static_friction[lane] = contact.static_friction;
   in.dynamic_friction[lane] = contact.dynamic_friction;
   for (int i = 0; i < Points; ++i) {
@@ -97,6 +73,73 @@ void gather_lane(ContactBatch& k, LaneInputs& in, int lane, const ConstraintSour
     k.point[i].tangent_impulse[lane] = contact.tangent_impulse[i];
     k.point[i].max_normal_impulse[lane] = 0.0f;
   }
+}
+
+// Zeroes the lanes from `count` on: padding lanes, whose sims gather_bodies() read from lane 0's
+// body, must bring zeros (derive_points).
+[[gnu::always_inline]] inline void clear_padding(LaneColumns& c, int count) {
+  using LaneMask = std::int32_t __attribute__((vector_size(32)));
+  const LaneMask lane = {0, 1, 2, 3, 4, 5, 6, 7};
+  const LaneMask keep = lane < count;
+  c.c0 = reinterpret_cast<LaneColumn>(reinterpret_cast<LaneMask>(c.c0) & keep);
+  c.c1 = reinterpret_cast<LaneColumn>(reinterpret_cast<LaneMask>(c.c1) & keep);
+  c.c2 = reinterpret_cast<LaneColumn>(reinterpret_cast<LaneMask>(c.c2) & keep);
+  c.c3 = reinterpret_cast<LaneColumn>(reinterpret_cast<LaneMask>(c.c3) & keep);
+}
+
+// Where gather_side() puts one side's columns: LaneInputs' for that side, and the batch's inverse
+// masses.
+struct SideInputs {
+  float* rotation_c;
+  float* rotation_s;
+  float* local_center_x;
+  float* local_center_y;
+  float* origin_x;
+  float* origin_y;
+  float* carry_x;
+  float* carry_y;
+  float* velocity_x;
+  float* velocity_y;
+  float* spin;
+  float* inv_mass;
+};
+
+// One side's bodies (`batch_body`, `count` of them; lane 0's stands in for the padding body, which
+// has no sim) as rows of their sims turned into columns: three row gathers instead of eleven
+// single-float copies per lane.
+[[gnu::always_inline]] inline void gather_side(const BodySim* __restrict sims, const std::uint32_t* batch_body,
+                                               int count, const SideInputs& side) {
+  std::uint32_t body[lane_count];
+  for (int lane = 0; lane < lane_count; ++lane) body[lane] = batch_body[lane < count ? lane : 0];
+  LaneColumns place, turn, velocity;
+  gather_columns<sim_place_row>(sims, body, place);
+  gather_columns<sim_turn_row>(sims, body, turn);
+  gather_columns<sim_velocity_row>(sims, body, velocity);
+  if (count < lane_count) {
+    clear_padding(place, count);
+    clear_padding(turn, count);
+    clear_padding(velocity, count);
+  }
+  to_lanes(place.c0, side.origin_x), to_lanes(place.c1, side.origin_y);
+  to_lanes(place.c2, side.carry_x), to_lanes(place.c3, side.carry_y);
+  to_lanes(turn.c0, side.rotation_c), to_lanes(turn.c1, side.rotation_s);
+  to_lanes(turn.c2, side.local_center_x), to_lanes(turn.c3, side.local_center_y);
+  to_lanes(velocity.c0, side.velocity_x), to_lanes(velocity.c1, side.velocity_y);
+  to_lanes(velocity.c2, side.spin), to_lanes(velocity.c3, side.inv_mass);
+}
+
+// Both sides' bodies of the first `count` lanes, whose bodies gather_lane() wrote into `k`. A lane
+// kernel of its own: in the baseline (SSE2) build the eight-lane shuffles cost more than the
+// single-float copies they replace, and inside derive_batch() Clang no longer vectorises
+// derive_points().
+FX2D_LANE_KERNEL void gather_bodies(ContactBatch& __restrict k, LaneInputs& __restrict in, int count,
+                                    const BodySim* __restrict sims) {
+  gather_side(sims, k.body_a, count,
+              {in.rotation_ac, in.rotation_as, in.local_center_ax, in.local_center_ay, in.origin_ax, in.origin_ay,
+               in.carry_ax, in.carry_ay, in.velocity_ax, in.velocity_ay, in.spin_a, k.inv_mass_a});
+  gather_side(sims, k.body_b, count,
+              {in.rotation_bc, in.rotation_bs, in.local_center_bx, in.local_center_by, in.origin_bx, in.origin_by,
+               in.carry_bx, in.carry_by, in.velocity_bx, in.velocity_by, in.spin_b, k.inv_mass_b});
 }
 
 // Per lane, from the inputs gather_lane() wrote: the anchors (the points moved from body a's
@@ -253,6 +296,7 @@ void ContactBatches::build_batch(int index, std::span<const ConstraintSource> co
     }
     lanes_[constraint] = index * lane_count + lane;
   }
+  gather_bodies(k, inputs, members.count, bodies.sims.data());
   derive_batch(k, inputs, points);
 }
 

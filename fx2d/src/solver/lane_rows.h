@@ -14,6 +14,7 @@
 #include <type_traits>
 
 #include "fx2d/Constraint.h"
+#include "world/bodies.h"
 
 namespace fx2d::detail {
 
@@ -43,6 +44,18 @@ static_assert(offsetof(FxBodyState, linear_velocity) == velocity_row && offsetof
               "the velocity row is velocity, spin and flags");
 static_assert(offsetof(FxBodyState, delta_position) == pose_row && offsetof(FxBodyState, delta_rotation) == 24,
               "the pose row is displacement and rotation");
+// The rows of BodySim, by byte offset (body write-back, contact packing).
+constexpr std::size_t sim_place_row = 0;      // origin, carry
+constexpr std::size_t sim_turn_row = 16;      // rotation, local_center
+constexpr std::size_t sim_velocity_row = 32;  // linear_velocity, angular_velocity, inv_mass
+static_assert(offsetof(BodySim, origin) == sim_place_row && offsetof(BodySim, carry) == 8,
+              "the place row is origin and carry");
+static_assert(offsetof(BodySim, rotation) == sim_turn_row && offsetof(BodySim, local_center) == 24,
+              "the turn row is rotation and local centre");
+static_assert(offsetof(BodySim, linear_velocity) == sim_velocity_row && offsetof(BodySim, angular_velocity) == 40 &&
+                  offsetof(BodySim, inv_mass) == 44,
+              "the velocity row is velocity, spin and inverse mass");
+
 static_assert(lane_count == 8, "gather_columns and scatter_columns transpose eight rows");
 
 // One row of eight bodies, as four columns.
