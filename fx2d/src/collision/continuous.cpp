@@ -13,9 +13,9 @@
 namespace fx2d::detail {
 namespace {
 
-// A body is fast when some point of it moves farther in a step than this share of its inner
-// extent: less cannot carry it past anything before the contact it makes pushes back (Box2D's
-// safety factor).
+// A dynamic body is fast when some point of it moves farther in a step than this share of its
+// inner extent: less cannot carry it past anything before the contact it makes pushes back
+// (Box2D's safety factor).
 constexpr float fast_share = 0.5f;
 
 // A pass spreads over the workers in blocks of this many fast bodies, once it has this many.
@@ -148,20 +148,18 @@ class FastBodyPass {
   bool bullets_;
 };
 
-// The farthest any point of a moving body that a pass sweeps against moved this step.
-float others_motion(std::span<const FxBodyState> states, std::span<const std::uint32_t> moving, const Bodies& bodies,
-                    bool bullet_pass) {
+// The farthest any point of a moving body that the bullets' pass sweeps against moved this step.
+float others_motion_for_bullets(std::span<const FxBodyState> states, std::span<const std::uint32_t> moving,
+                                const Bodies& bodies) {
   float farthest = 0.0f;
   for (const std::uint32_t body : moving) {
-    const BodyRecord& record = bodies.records[body];
-    if (!sweeps_against(record, bullet_pass)) continue;
-    farthest = std::max(farthest, step_motion(states[body], reach(record.shape, bodies.sims[body].local_center)));
+    if (!sweeps_against(bodies.records[body], true)) continue;
+    farthest = std::max(farthest, step_motion(states[body], bodies.sims[body].reach));
   }
   return farthest;
 }
 
-}  // namespace
-
+// The least distance from a shape's centroid to its surface (metres).
 float inner_extent(const FxShape& shape) {
   if (shape.type() == FxShapeType::circle) return shape.radius();
   float nearest = std::numeric_limits<float>::max();
@@ -171,22 +169,34 @@ float inner_extent(const FxShape& shape) {
   return nearest;
 }
 
+}  // namespace
+
+void set_continuous_extents(BodySim& sim, FxBodyType type, const FxShape& shape) {
+  sim.reach = reach(shape, sim.local_center);
+  sim.fast_motion =
+      type == FxBodyType::dynamic ? fast_share * inner_extent(shape) : std::numeric_limits<float>::infinity();
+}
+
 void solve_continuous(const StepContext& step, ContinuousScratch& scratch, std::span<FxBodyState> states,
                       std::span<const std::uint32_t> moving, Bodies& bodies, const BroadPhase& broad) {
+  // One walk over the moving bodies, reading only their states and sims (a record is several
+  // cache lines away, and this walk took most of the stage when it read them): the fast ones, and
+  // how far the kinematic ones, which the first pass sweeps against, moved.
   std::vector<std::uint32_t>& fast = scratch.fast_bodies;
   fast.clear();
+  float kinematic_motion = 0.0f;
   for (const std::uint32_t body : moving) {
-    const BodyRecord& record = bodies.records[body];
-    if (record.type != FxBodyType::dynamic) continue;
-    const float motion = step_motion(states[body], reach(record.shape, bodies.sims[body].local_center));
-    if (motion > fast_share * record.inner_extent) fast.push_back(body);
+    const BodySim& sim = bodies.sims[body];
+    const float motion = step_motion(states[body], sim.reach);
+    if (motion > sim.fast_motion) fast.push_back(body);
+    if (sim.fast_motion == std::numeric_limits<float>::infinity()) kinematic_motion = std::max(kinematic_motion, motion);
   }
   // Bullets go second, against the motion the first pass left the other bodies.
   for (const bool bullets : {false, true}) {
     const auto in_pass = [&](std::uint32_t body) { return bodies.records[body].bullet == bullets; };
     if (std::none_of(fast.begin(), fast.end(), in_pass)) continue;
-    FastBodyPass pass(step.settings.linear_slop, others_motion(states, moving, bodies, bullets), step.limits.max_speed,
-                      states, bodies, broad, bullets);
+    const float others_motion = bullets ? others_motion_for_bullets(states, moving, bodies) : kinematic_motion;
+    FastBodyPass pass(step.settings.linear_slop, others_motion, step.limits.max_speed, states, bodies, broad, bullets);
     // A fast body moves only itself, and is swept only against bodies its pass never moves (not
     // dynamic in the first pass, not bullets in the second), so a pass's bodies advance on any
     // thread in any order.

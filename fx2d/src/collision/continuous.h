@@ -32,9 +32,10 @@ struct ContinuousScratch {
   void reserve(std::size_t bodies) { fast_bodies.reserve(bodies); }
 };
 
-// The least distance from a shape's centroid to its surface (metres): how far it may move in one
-// step before it could be past a wall without ever having overlapped it by half.
-float inner_extent(const FxShape& shape);
+// Sets sim.reach and sim.fast_motion for a body of this type and shape, whose sim's local_center
+// is set: a dynamic body is fast when some point of it moves farther in a step than half its inner
+// extent, the least distance from its shape's centroid to its surface.
+void set_continuous_extents(BodySim& sim, FxBodyType type, const FxShape& shape);
 
 // Stage: moves each fast body in `moving` back to its pose at its first time of impact, if any,
 // linear_slop short of touching (or, if it began within that, linear_slop closer than it began),

@@ -34,7 +34,6 @@ struct BodyRecord {
   float angular_damping = 0.0f;
   float sleep_time = 0.0f;     // seconds it has been resting
   float rest_start_speed = 0.0f;  // m/s, its speed when it began to rest (body_integration.cpp)
-  float inner_extent = 0.0f;   // metres from the shape's centroid to its nearest surface
   int proxy = AabbTree::null_node;
   int contact_head = -1;       // first contact edge touching this body (contact_cache.h)
   int sleep_island = -1;       // while asleep: the packed index that named its island
@@ -51,6 +50,11 @@ struct BodySim {
   float inv_inertia = 0.0f;
   FxVec2f force;               // accumulated by apply_force(), cleared by the step
   FxAABB aabb;                 // tight bounds at the current pose
+  // For the continuous stage, which reads them for every moving body each step (continuous.h):
+  // how far the body's farthest point lies from its centre of mass, and the motion in a step
+  // beyond which it is swept (infinite for a body that never is: a kinematic one).
+  float reach = 0.0f;
+  float fast_motion = 0.0f;
 };
 
 // What a removed entity's handle keeps of its body.

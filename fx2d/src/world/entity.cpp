@@ -74,7 +74,6 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
   record.type = def.type;
   record.can_sleep = def.can_sleep;
   record.bullet = def.bullet;
-  record.inner_extent = inner_extent(def.shape);
   record.awake = def.type != FxBodyType::static_body;
   if (record.awake) ++bodies_.awake_count;
   record.linear_damping = def.linear_damping;
@@ -96,6 +95,7 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
     sim.linear_velocity = def.linear_velocity + cross(def.angular_velocity, rotate(sim.rotation, sim.local_center));
   }
   def.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
+  set_continuous_extents(sim, def.type, def.shape);
 
   record.proxy = broad_phase_.create_proxy(sim.aabb, index);
   record.moved = true;
