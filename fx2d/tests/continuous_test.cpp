@@ -65,6 +65,29 @@ TEST_P(FarStart, SmallCircleStopsAtAThinWall) {
 
 INSTANTIATE_TEST_SUITE_P(Speeds, FarStart, ::testing::Values(200.0f, 400.0f, FxSceneSettings{}.max_linear_speed));
 
+// Fast bodies are swept against a tree of the static and kinematic bodies alone, which follows
+// every creation and removal: a wall whose packed index moved down when a static body before it
+// was removed still stops a fast circle, and once the wall itself is removed, a circle flies on.
+TEST(ContinuousCollision, TheWallsTreeFollowsRemovals) {
+  FxScene scene(weightless());
+  FxEntityDef decoy;
+  decoy.type = FxBodyType::static_body;
+  decoy.shape = FxShape::box(1.0f, 1.0f);
+  decoy.position = {0.0f, 50.0f};
+  const auto removed_first = scene.create_entity(decoy);
+  for (int i = 0; i < 20; ++i) add_moving(scene, FxShape::box(0.2f, 0.2f), {-5.0f + 0.5f * float(i), -20.0f}, {});
+  const auto wall = add_wall(scene);
+  scene.remove_entity(*removed_first);
+  const auto stopped = add_moving(scene, FxShape::circle(0.05f), {-60.0f, 0.0f}, {400.0f, 0.0f});
+  expect_stays_left_of_wall(scene, *stopped, 0.5f);
+
+  scene.remove_entity(*wall);
+  scene.remove_entity(*stopped);
+  const auto free_flyer = add_moving(scene, FxShape::circle(0.05f), {-60.0f, 0.0f}, {400.0f, 0.0f});
+  for (int i = 0; i < 30; ++i) scene.step();
+  EXPECT_GT(free_flyer->position().x, 100.0f);
+}
+
 TEST(ContinuousCollision, SpinningThinPlankDoesNotPassAThinWall) {
   FxScene scene(weightless());
   add_wall(scene);

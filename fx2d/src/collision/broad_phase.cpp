@@ -152,14 +152,30 @@ void BroadPhase::reserve(std::size_t bodies) {
   tree.reserve(static_cast<int>(bodies));
 }
 
-int BroadPhase::create_proxy(const FxAABB& aabb, std::uint32_t index) {
-  const int proxy = tree.create_proxy(fat_box_for(aabb, {}), 0);
-  if (body_of_proxy.size() <= static_cast<std::size_t>(proxy)) {
-    body_of_proxy.resize(proxy + 1);
-    proxy_moved.resize(proxy + 1);
+void BroadPhase::add_body(BodyRecord& record, const FxAABB& aabb, std::uint32_t index) {
+  const FxAABB fat = fat_box_for(aabb, {});
+  record.proxy = tree.create_proxy(fat, 0);
+  if (body_of_proxy.size() <= static_cast<std::size_t>(record.proxy)) {
+    body_of_proxy.resize(record.proxy + 1);
+    proxy_moved.resize(record.proxy + 1);
   }
-  body_of_proxy[proxy] = index;
-  return proxy;
+  if (record.type != FxBodyType::dynamic) {
+    record.fixed_proxy = fixed_tree.create_proxy(fat, 0);
+    if (body_of_fixed_proxy.size() <= static_cast<std::size_t>(record.fixed_proxy)) {
+      body_of_fixed_proxy.resize(record.fixed_proxy + 1);
+    }
+  }
+  renumber(record, index);
+}
+
+void BroadPhase::remove_body(const BodyRecord& record) {
+  tree.destroy_proxy(record.proxy);
+  if (record.fixed_proxy != AabbTree::null_node) fixed_tree.destroy_proxy(record.fixed_proxy);
+}
+
+void BroadPhase::renumber(const BodyRecord& record, std::uint32_t index) {
+  body_of_proxy[record.proxy] = index;
+  if (record.fixed_proxy != AabbTree::null_node) body_of_fixed_proxy[record.fixed_proxy] = index;
 }
 
 bool BroadPhase::jointed(std::uint32_t a, std::uint32_t b) const {
@@ -195,6 +211,8 @@ void update_broad_phase(const StepContext& step, BroadPhase& broad, Bodies& bodi
     } else {
       tree.move_proxy(records[i].proxy, fat);
     }
+    // A static or kinematic body's second proxy moves with its first.
+    if (records[i].fixed_proxy != AabbTree::null_node) broad.fixed_tree.move_proxy(records[i].fixed_proxy, fat);
   }
   if (refit) tree.refit_or_rebuild(refit_growth_allowed);
 

@@ -17,6 +17,11 @@ struct StepContext;
 struct BroadPhase {
   AabbTree tree;
   std::vector<std::uint32_t> body_of_proxy;  // proxy id -> packed index
+  // The static and kinematic bodies again, with the same fat boxes: what continuous collision
+  // sweeps a fast body against (continuous.h). Searched in `tree`, each fast body's sweep walked
+  // down through the crowd of dynamic bodies around it, only to skip them.
+  AabbTree fixed_tree;
+  std::vector<std::uint32_t> body_of_fixed_proxy;  // fixed_tree's proxy id -> packed index
   // proxy id -> 1 while its body's `moved` is set, during the search: read per leaf a query
   // visits, where the body's record would be a cache miss.
   std::vector<std::uint8_t> proxy_moved;
@@ -34,8 +39,13 @@ struct BroadPhase {
   std::vector<std::vector<std::uint64_t>> new_pairs_by_block;
 
   void reserve(std::size_t bodies);
-  // Gives body `index` a proxy for its tight box `aabb`.
-  int create_proxy(const FxAABB& aabb, std::uint32_t index);
+  // Gives body `index` its proxies (record.proxy, and record.fixed_proxy unless it is dynamic) for
+  // its tight box `aabb`.
+  void add_body(BodyRecord& record, const FxAABB& aabb, std::uint32_t index);
+  // Takes a body's proxies out of the trees.
+  void remove_body(const BodyRecord& record);
+  // Points a body's proxies at its new packed index `index`.
+  void renumber(const BodyRecord& record, std::uint32_t index);
   // True when a constraint joins bodies a and b: such a pair never collides.
   bool jointed(std::uint32_t a, std::uint32_t b) const;
   // Marks the body moved when its tight box has left its proxy's fat box.

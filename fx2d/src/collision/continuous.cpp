@@ -84,12 +84,15 @@ class FastBodyPass {
   }
 
   // The earliest impact of `body` on a body it is swept against; fraction 1 when there is none.
-  // Ties go to the lower index, so the tree's order of visits does not matter.
+  // Ties go to the lower index, so the tree's order of visits does not matter. The first pass
+  // searches only the static and kinematic bodies' tree.
   Impact first_impact(std::uint32_t body, const Sweep& sweep) const {
     const FxShape& shape = bodies_.records[body].shape;
+    const AabbTree& tree = bullets_ ? broad_.tree : broad_.fixed_tree;
+    const std::vector<std::uint32_t>& body_of_proxy = bullets_ ? broad_.body_of_proxy : broad_.body_of_fixed_proxy;
     Impact earliest;
-    broad_.tree.query(swept_box(body, sweep), [&](int proxy) {
-      const std::uint32_t other = broad_.body_of_proxy[proxy];
+    tree.query(swept_box(body, sweep), [&](int proxy) {
+      const std::uint32_t other = body_of_proxy[proxy];
       const BodyRecord& record = bodies_.records[other];
       if (other == body || !sweeps_against(record, bullets_) || broad_.jointed(body, other)) return true;
       const Sweep other_sweep = sweep_of(bodies_, states_, other, bodies_.origin_offset(body, other));

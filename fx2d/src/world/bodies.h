@@ -35,6 +35,7 @@ struct BodyRecord {
   float sleep_time = 0.0f;     // seconds it has been resting
   float rest_start_speed = 0.0f;  // m/s, its speed when it began to rest (body_integration.cpp)
   int proxy = AabbTree::null_node;
+  int fixed_proxy = AabbTree::null_node;  // a static or kinematic body's proxy in BroadPhase::fixed_tree
   int contact_head = -1;       // first contact edge touching this body (contact_cache.h)
   int sleep_island = -1;       // while asleep: the packed index that named its island
 };

@@ -97,7 +97,7 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
   def.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
   set_continuous_extents(sim, def.type, def.shape);
 
-  record.proxy = broad_phase_.create_proxy(sim.aabb, index);
+  broad_phase_.add_body(record, sim.aabb, index);
   record.moved = true;
   broad_phase_.may_have_moved = true;
   return handle;
@@ -144,7 +144,7 @@ void World::remove_entity(std::uint32_t index) {
     return c->entity_a().get() == &entity || c->entity_b().get() == &entity;
   });
   broad_phase_.jointed_pairs_dirty = true;
-  broad_phase_.tree.destroy_proxy(records[index].proxy);
+  broad_phase_.remove_body(records[index]);
 
   if (records[index].awake) --bodies_.awake_count;
   auto snapshot = std::make_unique<FxEntity::Snapshot>();
@@ -159,7 +159,7 @@ void World::remove_entity(std::uint32_t index) {
   auto shifted = [index](std::uint32_t i) { return i > index ? i - 1 : i; };
   for (std::uint32_t i = index; i < records.size(); ++i) {
     records[i].handle->packed_index_ = i;
-    broad_phase_.body_of_proxy[records[i].proxy] = i;
+    broad_phase_.renumber(records[i], i);
   }
   for (CachedContact& contact : contacts_.slots) {
     contact.body_a = shifted(contact.body_a);
