@@ -116,6 +116,11 @@ bool any_point_within_margin(const Manifold& manifold, float dt, const PairMotio
 constexpr std::uint32_t pairs_per_block = 64;
 constexpr std::uint32_t min_parallel_pairs = 256;
 
+// A collided pair's update: whether it began or stopped touching, read off its own record.
+PairUpdate collided(const CachedContact& contact) {
+  return (contact.manifold.point_count > 0) != contact.touching ? PairUpdate::touching_changed : PairUpdate::collided;
+}
+
 // Collides one cached pair whose bodies were awake when read, writing only its own record's
 // manifold and impulses: leaves `touching`, the cache's count and the bodies to settle_pair().
 PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const Bodies& bodies, const AabbTree& tree) {
@@ -139,7 +144,7 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
     const Manifold moved = moved_manifold(contact.frame, contact.manifold, xf_a, xf_b);
     if (any_point_within_margin(moved, dt, motion)) {
       contact.manifold = moved;  // the same features: every point keeps its impulses
-      return PairUpdate::collided;
+      return collided(contact);
     }
   }
   // Collided at the widest margin any normal could need, then trimmed to the one it found.
@@ -154,11 +159,12 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
   contact.frame.valid = false;
   // A pair with no points has nothing to reuse.
   if (polygons && manifold.point_count > 0) contact.frame = frame_of(manifold, xf_a, xf_b);
-  return PairUpdate::collided;
+  return collided(contact);
 }
 
-// The part of a collided or separated pair's update that touches what other pairs share: the
-// cache's free list and touching count, the bodies' contact lists and awake flags.
+// The part of a separated pair's update, or of one that began or stopped touching, that touches
+// what other pairs share: the cache's free list and touching count, the bodies' contact lists and
+// awake flags.
 void settle_pair(int id, PairUpdate update, ContactCache& contacts, Bodies& bodies) {
   CachedContact& contact = contacts.slots[id];
   BodyRecord& ra = bodies.records[contact.body_a];
@@ -188,18 +194,25 @@ void update_contacts(const StepContext& step, NarrowPhaseScratch& scratch, Conta
     step.tasks.for_each_range(slot_count, pairs_per_block, min_parallel_pairs, [&](std::uint32_t first, std::uint32_t last) {
       for (std::uint32_t id = first; id < last; ++id) {
         CachedContact& contact = contacts.slots[id];
-        updates[id] = contact.alive ? collide_pair(step, contact, bodies, tree) : PairUpdate::skipped;
+        updates[id] = contact.alive ? collide_pair(step, contact, bodies, tree) : PairUpdate::vacant;
       }
     });
   }
   // In slot order, as one thread would: a pair that wakes a body makes the later pairs of that
-  // body active, so a pair skipped above is collided here once its body has woken.
+  // body active, so a pair skipped above is collided here once its body has woken. A slot whose
+  // update needs nothing more is passed over on the compact list alone: its record, which another
+  // core may have just written, is not read again.
   for (std::uint32_t id = 0; id < slot_count; ++id) {
-    CachedContact& contact = contacts.slots[id];
-    if (!contact.alive) continue;
     PairUpdate update = parallel ? updates[id] : PairUpdate::skipped;
-    if (update == PairUpdate::skipped) update = collide_pair(step, contact, bodies, tree);
-    if (update != PairUpdate::skipped) settle_pair(static_cast<int>(id), update, contacts, bodies);
+    if (update == PairUpdate::vacant || update == PairUpdate::collided) continue;
+    CachedContact& contact = contacts.slots[id];
+    if (update == PairUpdate::skipped) {
+      if (!contact.alive) continue;
+      update = collide_pair(step, contact, bodies, tree);
+    }
+    if (update == PairUpdate::separated || update == PairUpdate::touching_changed) {
+      settle_pair(static_cast<int>(id), update, contacts, bodies);
+    }
   }
 }
 
