@@ -59,11 +59,10 @@ bool barely_moved(const ManifoldFrame& frame, const FxTransform& b_in_a, const F
   return length(b_in_a.p - frame.b_in_a.p) + chord <= manifold_reuse_distance;
 }
 
-// The manifold of `frame` where the pair stands now: the same points, the normal turned with A, and
-// each separation measured between the two surface points as they are now.
-Manifold moved_manifold(const ManifoldFrame& frame, const Manifold& previous, const FxTransform& xf_a,
-                        const FxTransform& xf_b) {
-  Manifold manifold = previous;
+// Moves `manifold`, the one `frame` recorded, to where the pair stands now: the same points, the
+// normal turned with A, and each separation measured between the two surface points as they are now.
+// Its feature ids, point count and separating face stay as they were.
+void move_manifold(const ManifoldFrame& frame, const FxTransform& xf_a, const FxTransform& xf_b, Manifold& manifold) {
   manifold.normal = rotate(xf_a.q, frame.normal_in_a);
   for (int i = 0; i < manifold.point_count; ++i) {
     const FxVec2f on_a = transform_point(xf_a, frame.on_a[i]);
@@ -71,7 +70,6 @@ Manifold moved_manifold(const ManifoldFrame& frame, const Manifold& previous, co
     manifold.points[i].point = 0.5f * (on_a + on_b);
     manifold.points[i].separation = dot(on_b - on_a, manifold.normal);
   }
-  return manifold;
 }
 
 // How fast two bodies could close within the step, for their speculative margin.
@@ -136,20 +134,21 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
   // Resting polygons, the common case in a stack or a settled heap, skip the separating-axis search
   // and the clip while a point stays within the speculative margin.
   if (contact.frame.valid && barely_moved(contact.frame, inv_mul(xf_a, xf_b), rb.shape)) {
-    const Manifold moved = moved_manifold(contact.frame, contact.manifold, xf_a, xf_b);
-    if (any_point_within_margin(moved, dt, motion)) {
-      contact.manifold = moved;  // the same features: every point keeps its impulses
-      return PairUpdate::collided;
-    }
+    // The same features: every point keeps its impulses. Moved in place, as the full collision
+    // below reads no more of the record's manifold than moving leaves as it was.
+    move_manifold(contact.frame, xf_a, xf_b, contact.manifold);
+    if (any_point_within_margin(contact.manifold, dt, motion)) return PairUpdate::collided;
   }
-  // Collided at the widest margin any normal could need, then trimmed to the one it found.
-  Manifold manifold;
+  // Collided at the widest margin any normal could need, then trimmed to the one it found, into the
+  // record itself once the points whose impulses carry over are known.
+  const WarmStart previous = ContactCache::warm_start_of(contact);
+  Manifold& manifold = contact.manifold;
   collide(ra.shape, xf_a, rb.shape, xf_b, speculative_distance(dt, motion.fastest_closing()),
-          contact.manifold.separating_face, manifold);
+          manifold.separating_face, manifold);
   // Every point is kept while any is within the margin: both ends of a polygon's clipped edge, the
   // far one for a body struck or set turning within the step (collide.cpp).
   if (manifold.point_count > 0 && !any_point_within_margin(manifold, dt, motion)) manifold.point_count = 0;
-  ContactCache::replace_manifold(contact, manifold);
+  ContactCache::carry_impulses(previous, contact);
   const bool polygons = ra.shape.type() == FxShapeType::polygon && rb.shape.type() == FxShapeType::polygon;
   contact.frame.valid = false;
   // A pair with no points has nothing to reuse.
