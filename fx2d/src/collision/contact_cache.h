@@ -93,13 +93,13 @@ class ContactCache {
       contact.tangent_impulse[i] = tangent_impulse[i];
     }
   }
-  // Sets `touching` from the record's manifold and keeps touching_count; true if it began touching.
-  bool update_touching(CachedContact& contact) {
+  // Sets `touching` from the record's manifold, touching that record alone (as warm_start_of()):
+  // +1 if it began touching, -1 if it stopped, 0 if neither, for touching_count.
+  static int update_touching(CachedContact& contact) {
     const bool touching = contact.manifold.point_count > 0;
-    const bool began = touching && !contact.touching;
-    if (touching != contact.touching) touching_count += touching ? 1 : -1;
+    const int change = int(touching) - int(contact.touching);
     contact.touching = touching;
-    return began;
+    return change;
   }
 
   static int contact_of(int edge) { return edge >> 1; }

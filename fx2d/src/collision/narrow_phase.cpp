@@ -122,8 +122,17 @@ bool any_point_within_margin(const Manifold& manifold, float dt, const PairMotio
 constexpr std::uint32_t pairs_per_block = 64;
 constexpr std::uint32_t min_parallel_pairs = 256;
 
+// The update of a pair collided: whether it began or stopped touching, as its record now says.
+PairUpdate touching_update(CachedContact& contact) {
+  switch (ContactCache::update_touching(contact)) {
+    case 1: return PairUpdate::began_touching;
+    case -1: return PairUpdate::stopped_touching;
+    default: return PairUpdate::collided;
+  }
+}
+
 // Collides one cached pair whose bodies were awake when read, writing only its own record's
-// manifold and impulses: leaves `touching`, the cache's count and the bodies to settle_pair().
+// manifold, impulses and `touching`: leaves the cache's count and the bodies to settle_pair().
 PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const Bodies& bodies, const AabbTree& tree) {
   const std::uint32_t a = contact.body_a;
   const std::uint32_t b = contact.body_b;
@@ -145,7 +154,7 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
     // The same features: every point keeps its impulses. Moved in place, as the full collision
     // below reads no more of the record's manifold than moving leaves as it was.
     move_manifold(contact.frame, xf_a, xf_b, contact.manifold);
-    if (any_point_within_margin(contact.manifold, dt, motion)) return PairUpdate::collided;
+    if (any_point_within_margin(contact.manifold, dt, motion)) return touching_update(contact);
   }
   // Collided at the widest margin any normal could need, then trimmed to the one it found, into the
   // record itself once the points whose impulses carry over are known.
@@ -161,11 +170,12 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
   contact.frame.valid = false;
   // A pair with no points has nothing to reuse.
   if (polygons && manifold.point_count > 0) contact.frame = frame_of(manifold, xf_a, xf_b);
-  return PairUpdate::collided;
+  return touching_update(contact);
 }
 
-// The part of a collided or separated pair's update that touches what other pairs share: the
-// cache's free list and touching count, the bodies' contact lists and awake flags.
+// The part of a separated pair's update, or a collided one's that began or stopped touching, that
+// touches what other pairs share: the cache's free list and touching count, the bodies' contact
+// lists and awake flags.
 void settle_pair(int id, PairUpdate update, ContactCache& contacts, Bodies& bodies) {
   CachedContact& contact = contacts.slots[id];
   BodyRecord& ra = bodies.records[contact.body_a];
@@ -174,7 +184,11 @@ void settle_pair(int id, PairUpdate update, ContactCache& contacts, Bodies& bodi
     contacts.destroy(id, ra.contact_head, rb.contact_head);
     return;
   }
-  if (!contacts.update_touching(contact)) return;
+  if (update == PairUpdate::stopped_touching) {
+    --contacts.touching_count;
+    return;
+  }
+  ++contacts.touching_count;
   const bool active_a = ra.awake && ra.type != FxBodyType::static_body;
   const bool active_b = rb.awake && rb.type != FxBodyType::static_body;
   if (!ra.awake && active_b) wake_body(bodies, contact.body_a);
@@ -202,11 +216,15 @@ void update_contacts(const StepContext& step, NarrowPhaseScratch& scratch, Conta
   // In slot order, as one thread would: a pair that wakes a body makes the later pairs of that
   // body active, so a pair skipped above is collided here once its body has woken.
   for (std::uint32_t id = 0; id < slot_count; ++id) {
-    CachedContact& contact = contacts.slots[id];
-    if (!contact.alive) continue;
     PairUpdate update = parallel ? updates[id] : PairUpdate::skipped;
-    if (update == PairUpdate::skipped) update = collide_pair(step, contact, bodies, tree);
-    if (update != PairUpdate::skipped) settle_pair(static_cast<int>(id), update, contacts, bodies);
+    if (update == PairUpdate::skipped) {
+      CachedContact& contact = contacts.slots[id];
+      if (!contact.alive) continue;
+      update = collide_pair(step, contact, bodies, tree);
+    }
+    if (update != PairUpdate::skipped && update != PairUpdate::collided) {
+      settle_pair(static_cast<int>(id), update, contacts, bodies);
+    }
   }
 }
 
