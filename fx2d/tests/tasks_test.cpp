@@ -136,6 +136,42 @@ TEST(Threads, WideColoursSpreadOverWorkersEndInTheSameBitsOnEveryWorkerCount) {
   expect_same_bits_on_every_worker_count(&wide_colours_state);
 }
 
+// Boxes dropped in columns of two onto the ground, bouncing: contacts begin as they land and stop as
+// they rebound, among 400 pairs, more than the narrow phase collides on one thread. Each pair says
+// whether it began or stopped touching, and the serial pass keeps the count from that alone: the
+// count must be the touching contacts after every step, on one worker and on two.
+TEST(Threads, TheTouchingCountFollowsContactsThatBeginAndStopOnEveryWorkerCount) {
+  constexpr int columns = 200;
+  constexpr float column_spacing = 1.5f;
+  FxMaterial bouncy;
+  bouncy.restitution = 0.8f;
+  for (const int workers : {1, 2}) {
+    FxSceneSettings settings;
+    settings.workers = workers;
+    FxScene scene(settings);
+    add_ground(scene, column_spacing * columns, 0.0f, bouncy);
+    for (int column = 0; column < columns; ++column) {
+      for (const float height : {1.5f, 3.5f}) {
+        add_box(scene, {column_spacing * static_cast<float>(column), height}, 0.5f, bouncy);
+      }
+    }
+    std::vector<FxContact> touching;
+    int rises = 0;
+    int falls = 0;
+    int previous = 0;
+    for (int step = 0; step < 120; ++step) {
+      scene.step();
+      scene.contacts(touching);
+      ASSERT_EQ(scene.contact_count(), static_cast<int>(touching.size())) << "step " << step << ", " << workers << " workers";
+      rises += scene.contact_count() > previous;
+      falls += scene.contact_count() < previous;
+      previous = scene.contact_count();
+    }
+    EXPECT_GT(rises, 0) << "no contact began";
+    EXPECT_GT(falls, 0) << "no contact stopped";
+  }
+}
+
 TEST(Threads, AUsersSchedulerRunningRangesBackwardsGivesTheSameBits) {
   BackwardsScheduler backwards;
   FxSceneSettings settings;

@@ -45,6 +45,14 @@ struct CachedContact {
   ManifoldFrame frame;
 };
 
+// What a record's points carry to the next manifold's points of the same features (ContactCache).
+struct WarmStart {
+  int point_count = 0;
+  std::uint32_t ids[2] = {0, 0};
+  float normal_impulse[2] = {0.0f, 0.0f};
+  float tangent_impulse[2] = {0.0f, 0.0f};
+};
+
 class ContactCache {
  public:
   // Creates the record for (a, b), a < b, linking it into both bodies' lists.
@@ -54,34 +62,44 @@ class ContactCache {
   // True when the body whose list starts at `head` has a contact with `other`.
   bool has_pair(int head, std::uint32_t other) const;
 
-  // Replaces a record's manifold, carrying impulses over from points with the same feature id.
-  // Touches that record alone, so records may be replaced on several threads at once. Inline, as
-  // update_touching(): the narrow phase calls both for every pair every step.
-  static void replace_manifold(CachedContact& contact, const Manifold& manifold) {
+  // A record's feature ids and impulses before its manifold is collided anew, and then the impulses
+  // carried over to the new points with the same feature ids. These touch that record alone, so
+  // records may be collided on several threads at once. Inline, as update_touching(): the narrow
+  // phase calls them for every pair every step.
+  static WarmStart warm_start_of(const CachedContact& contact) {
+    WarmStart previous;
+    previous.point_count = contact.manifold.point_count;
+    for (int i = 0; i < 2; ++i) {
+      previous.ids[i] = contact.manifold.points[i].id;
+      previous.normal_impulse[i] = contact.normal_impulse[i];
+      previous.tangent_impulse[i] = contact.tangent_impulse[i];
+    }
+    return previous;
+  }
+  static void carry_impulses(const WarmStart& previous, CachedContact& contact) {
     float normal_impulse[2] = {0.0f, 0.0f};
     float tangent_impulse[2] = {0.0f, 0.0f};
-    for (int i = 0; i < manifold.point_count; ++i) {
-      for (int j = 0; j < contact.manifold.point_count; ++j) {
-        if (contact.manifold.points[j].id == manifold.points[i].id) {
-          normal_impulse[i] = contact.normal_impulse[j];
-          tangent_impulse[i] = contact.tangent_impulse[j];
+    for (int i = 0; i < contact.manifold.point_count; ++i) {
+      for (int j = 0; j < previous.point_count; ++j) {
+        if (previous.ids[j] == contact.manifold.points[i].id) {
+          normal_impulse[i] = previous.normal_impulse[j];
+          tangent_impulse[i] = previous.tangent_impulse[j];
           break;
         }
       }
     }
-    contact.manifold = manifold;
     for (int i = 0; i < 2; ++i) {
       contact.normal_impulse[i] = normal_impulse[i];
       contact.tangent_impulse[i] = tangent_impulse[i];
     }
   }
-  // Sets `touching` from the record's manifold and keeps touching_count; true if it began touching.
-  bool update_touching(CachedContact& contact) {
+  // Sets `touching` from the record's manifold, touching that record alone (as warm_start_of()):
+  // +1 if it began touching, -1 if it stopped, 0 if neither, for touching_count.
+  static int update_touching(CachedContact& contact) {
     const bool touching = contact.manifold.point_count > 0;
-    const bool began = touching && !contact.touching;
-    if (touching != contact.touching) touching_count += touching ? 1 : -1;
+    const int change = int(touching) - int(contact.touching);
     contact.touching = touching;
-    return began;
+    return change;
   }
 
   static int contact_of(int edge) { return edge >> 1; }

@@ -59,19 +59,25 @@ bool barely_moved(const ManifoldFrame& frame, const FxTransform& b_in_a, const F
   return length(b_in_a.p - frame.b_in_a.p) + chord <= manifold_reuse_distance;
 }
 
-// The manifold of `frame` where the pair stands now: the same points, the normal turned with A, and
-// each separation measured between the two surface points as they are now.
-Manifold moved_manifold(const ManifoldFrame& frame, const Manifold& previous, const FxTransform& xf_a,
-                        const FxTransform& xf_b) {
-  Manifold manifold = previous;
+// Moves point i of `manifold` with the pair: midway between its two surface points as they are now,
+// its separation measured between them along the manifold's normal.
+void move_point(const ManifoldFrame& frame, const FxTransform& xf_a, const FxTransform& xf_b, int i,
+                Manifold& manifold) {
+  const FxVec2f on_a = transform_point(xf_a, frame.on_a[i]);
+  const FxVec2f on_b = transform_point(xf_b, frame.on_b[i]);
+  manifold.points[i].point = 0.5f * (on_a + on_b);
+  manifold.points[i].separation = dot(on_b - on_a, manifold.normal);
+}
+
+// Moves `manifold`, the one `frame` recorded, to where the pair stands now: the same points, the
+// normal turned with A, and each separation measured between the two surface points as they are now.
+// Its feature ids, point count and separating face stay as they were. A frame is only made of a
+// manifold with points, so the first is there; the second is written out rather than looped over,
+// which the compiler vectorised for any count at twice the instructions.
+void move_manifold(const ManifoldFrame& frame, const FxTransform& xf_a, const FxTransform& xf_b, Manifold& manifold) {
   manifold.normal = rotate(xf_a.q, frame.normal_in_a);
-  for (int i = 0; i < manifold.point_count; ++i) {
-    const FxVec2f on_a = transform_point(xf_a, frame.on_a[i]);
-    const FxVec2f on_b = transform_point(xf_b, frame.on_b[i]);
-    manifold.points[i].point = 0.5f * (on_a + on_b);
-    manifold.points[i].separation = dot(on_b - on_a, manifold.normal);
-  }
-  return manifold;
+  move_point(frame, xf_a, xf_b, 0, manifold);
+  if (manifold.point_count > 1) move_point(frame, xf_a, xf_b, 1, manifold);
 }
 
 // How fast two bodies could close within the step, for their speculative margin.
@@ -116,13 +122,17 @@ bool any_point_within_margin(const Manifold& manifold, float dt, const PairMotio
 constexpr std::uint32_t pairs_per_block = 64;
 constexpr std::uint32_t min_parallel_pairs = 256;
 
-// A collided pair's update: whether it began or stopped touching, read off its own record.
-PairUpdate collided(const CachedContact& contact) {
-  return (contact.manifold.point_count > 0) != contact.touching ? PairUpdate::touching_changed : PairUpdate::collided;
+// The update of a pair collided: whether it began or stopped touching, as its record now says.
+PairUpdate touching_update(CachedContact& contact) {
+  switch (ContactCache::update_touching(contact)) {
+    case 1: return PairUpdate::began_touching;
+    case -1: return PairUpdate::stopped_touching;
+    default: return PairUpdate::collided;
+  }
 }
 
 // Collides one cached pair whose bodies were awake when read, writing only its own record's
-// manifold and impulses: leaves `touching`, the cache's count and the bodies to settle_pair().
+// manifold, impulses and `touching`: leaves the cache's count and the bodies to settle_pair().
 PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const Bodies& bodies, const AabbTree& tree) {
   const std::uint32_t a = contact.body_a;
   const std::uint32_t b = contact.body_b;
@@ -141,30 +151,31 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
   // Resting polygons, the common case in a stack or a settled heap, skip the separating-axis search
   // and the clip while a point stays within the speculative margin.
   if (contact.frame.valid && barely_moved(contact.frame, inv_mul(xf_a, xf_b), rb.shape)) {
-    const Manifold moved = moved_manifold(contact.frame, contact.manifold, xf_a, xf_b);
-    if (any_point_within_margin(moved, dt, motion)) {
-      contact.manifold = moved;  // the same features: every point keeps its impulses
-      return collided(contact);
-    }
+    // The same features: every point keeps its impulses. Moved in place, as the full collision
+    // below reads no more of the record's manifold than moving leaves as it was.
+    move_manifold(contact.frame, xf_a, xf_b, contact.manifold);
+    if (any_point_within_margin(contact.manifold, dt, motion)) return touching_update(contact);
   }
-  // Collided at the widest margin any normal could need, then trimmed to the one it found.
-  Manifold manifold;
+  // Collided at the widest margin any normal could need, then trimmed to the one it found, into the
+  // record itself once the points whose impulses carry over are known.
+  const WarmStart previous = ContactCache::warm_start_of(contact);
+  Manifold& manifold = contact.manifold;
   collide(ra.shape, xf_a, rb.shape, xf_b, speculative_distance(dt, motion.fastest_closing()),
-          contact.manifold.separating_face, manifold);
+          manifold.separating_face, manifold);
   // Every point is kept while any is within the margin: both ends of a polygon's clipped edge, the
   // far one for a body struck or set turning within the step (collide.cpp).
   if (manifold.point_count > 0 && !any_point_within_margin(manifold, dt, motion)) manifold.point_count = 0;
-  ContactCache::replace_manifold(contact, manifold);
+  ContactCache::carry_impulses(previous, contact);
   const bool polygons = ra.shape.type() == FxShapeType::polygon && rb.shape.type() == FxShapeType::polygon;
   contact.frame.valid = false;
   // A pair with no points has nothing to reuse.
   if (polygons && manifold.point_count > 0) contact.frame = frame_of(manifold, xf_a, xf_b);
-  return collided(contact);
+  return touching_update(contact);
 }
 
-// The part of a separated pair's update, or of one that began or stopped touching, that touches
-// what other pairs share: the cache's free list and touching count, the bodies' contact lists and
-// awake flags.
+// The part of a separated pair's update, or a collided one's that began or stopped touching, that
+// touches what other pairs share: the cache's free list and touching count, the bodies' contact
+// lists and awake flags.
 void settle_pair(int id, PairUpdate update, ContactCache& contacts, Bodies& bodies) {
   CachedContact& contact = contacts.slots[id];
   BodyRecord& ra = bodies.records[contact.body_a];
@@ -173,7 +184,11 @@ void settle_pair(int id, PairUpdate update, ContactCache& contacts, Bodies& bodi
     contacts.destroy(id, ra.contact_head, rb.contact_head);
     return;
   }
-  if (!contacts.update_touching(contact)) return;
+  if (update == PairUpdate::stopped_touching) {
+    --contacts.touching_count;
+    return;
+  }
+  ++contacts.touching_count;
   const bool active_a = ra.awake && ra.type != FxBodyType::static_body;
   const bool active_b = rb.awake && rb.type != FxBodyType::static_body;
   if (!ra.awake && active_b) wake_body(bodies, contact.body_a);
@@ -196,23 +211,20 @@ void update_contacts(const StepContext& step, NarrowPhaseScratch& scratch, Conta
     step.tasks.for_each_range(slot_count, block, min_parallel_pairs, [&](std::uint32_t first, std::uint32_t last) {
       for (std::uint32_t id = first; id < last; ++id) {
         CachedContact& contact = contacts.slots[id];
-        updates[id] = contact.alive ? collide_pair(step, contact, bodies, tree) : PairUpdate::vacant;
+        updates[id] = contact.alive ? collide_pair(step, contact, bodies, tree) : PairUpdate::skipped;
       }
     });
   }
   // In slot order, as one thread would: a pair that wakes a body makes the later pairs of that
-  // body active, so a pair skipped above is collided here once its body has woken. A slot whose
-  // update needs nothing more is passed over on the compact list alone: its record, which another
-  // core may have just written, is not read again.
+  // body active, so a pair skipped above is collided here once its body has woken.
   for (std::uint32_t id = 0; id < slot_count; ++id) {
     PairUpdate update = parallel ? updates[id] : PairUpdate::skipped;
-    if (update == PairUpdate::vacant || update == PairUpdate::collided) continue;
-    CachedContact& contact = contacts.slots[id];
     if (update == PairUpdate::skipped) {
+      CachedContact& contact = contacts.slots[id];
       if (!contact.alive) continue;
       update = collide_pair(step, contact, bodies, tree);
     }
-    if (update == PairUpdate::separated || update == PairUpdate::touching_changed) {
+    if (update != PairUpdate::skipped && update != PairUpdate::collided) {
       settle_pair(static_cast<int>(id), update, contacts, bodies);
     }
   }

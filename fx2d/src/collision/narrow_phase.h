@@ -12,11 +12,9 @@ namespace fx2d::detail {
 
 struct StepContext;
 
-// What the parallel collision of one pair left for the serial pass to do, per contact slot: nothing
-// for an empty slot or a pair collided whose touching did not change; for a pair skipped (both
-// bodies asleep), collide it if a pair before it woke one; destroy a pair separated; count a pair
-// that began or stopped touching, and wake its sleeping body.
-enum class PairUpdate : std::uint8_t { vacant, skipped, separated, collided, touching_changed };
+// What the parallel collision of one pair left for the serial pass to do, per contact slot: a pair
+// collided whose touching did not change leaves it nothing, and the pass does not read its record.
+enum class PairUpdate : std::uint8_t { skipped, separated, collided, began_touching, stopped_touching };
 
 struct NarrowPhaseScratch {
   std::vector<PairUpdate> pair_updates;  // per contact slot, reused every step
