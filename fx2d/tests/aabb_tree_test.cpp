@@ -69,7 +69,7 @@ std::vector<Proxy> random_edits(AabbTree& tree, std::uint32_t seed, int operatio
     const std::uint32_t choice = live.size() < 20 ? 0 : source.below(4);
     if (choice <= 1) {
       const FxAABB box = source.box();
-      live.push_back({tree.create_proxy(box, std::uint32_t(i)), box});
+      live.push_back({tree.create_proxy(box), box});
     } else if (choice == 2) {
       Proxy& moved = live[source.below(std::uint32_t(live.size()))];
       moved.box = source.box();
@@ -126,7 +126,7 @@ TEST(AabbTree, RebuildAfterManyMovesKeepsIdsAndQueriesExactAndIsBalanced) {
   // The rebuilt tree takes further edits like any other.
   for (int i = 0; i < 100; ++i) tree.move_proxy(live[std::size_t(i)].id, source.box());
   tree.destroy_proxy(live.back().id);
-  tree.create_proxy(source.box(), 0);
+  tree.create_proxy(source.box());
   EXPECT_TRUE(tree.validate());
 }
 
@@ -138,9 +138,9 @@ TEST(AabbTree, RebuildGivesTheSameTreeWhateverTheInsertionHistory) {
   BoxSource boxes(21);
   std::vector<FxAABB> final_boxes;
   for (int i = 0; i < 500; ++i) final_boxes.push_back(boxes.box());
-  for (int i = 0; i < 500; ++i) first_ids.push_back(first.create_proxy(final_boxes[std::size_t(i)], std::uint32_t(i)));
+  for (int i = 0; i < 500; ++i) first_ids.push_back(first.create_proxy(final_boxes[std::size_t(i)]));
   BoxSource noise(22);
-  for (int i = 0; i < 500; ++i) second_ids.push_back(second.create_proxy(noise.box(), std::uint32_t(i)));
+  for (int i = 0; i < 500; ++i) second_ids.push_back(second.create_proxy(noise.box()));
   for (int i = 0; i < 500; ++i) second.set_fat_box(second_ids[std::size_t(i)], final_boxes[std::size_t(i)]);
   first.rebuild();
   second.rebuild();
@@ -219,7 +219,7 @@ TEST(AabbTree, AMoveItsParentStillEnclosesKeepsTheLeafInPlaceAndQueriesExact) {
 
 TEST(AabbTree, QueryStopsWhenVisitReturnsFalse) {
   AabbTree tree;
-  for (int i = 0; i < 10; ++i) tree.create_proxy({{0.0f, 0.0f}, {1.0f, 1.0f}}, std::uint32_t(i));
+  for (int i = 0; i < 10; ++i) tree.create_proxy({{0.0f, 0.0f}, {1.0f, 1.0f}});
   int visits = 0;
   tree.query({{0.0f, 0.0f}, {1.0f, 1.0f}}, [&](int) { return ++visits < 3; });
   EXPECT_EQ(visits, 3);
@@ -247,7 +247,7 @@ TEST(AabbTree, SortedInsertionKeepsHeightLogarithmic) {
   AabbTree tree;
   for (int i = 0; i < count; ++i) {
     const float x = float(i);
-    tree.create_proxy({{x, 0.0f}, {x + 0.8f, 0.8f}}, std::uint32_t(i));
+    tree.create_proxy({{x, 0.0f}, {x + 0.8f, 0.8f}});
   }
   ASSERT_TRUE(tree.validate());
   EXPECT_LE(tree.height(), int(2.0 * std::log2(double(count)) + 2.0));
@@ -276,7 +276,7 @@ TEST(AabbTree, GridTreeAreaRatioIsCloseToABalancedSplit) {
   for (int y = 0; y < side; ++y) {
     for (int x = 0; x < side; ++x) {
       const FxVec2f lower{float(x) * cell, float(y) * cell};
-      tree.create_proxy({lower, lower + FxVec2f{size, size}}, std::uint32_t(y * side + x));
+      tree.create_proxy({lower, lower + FxVec2f{size, size}});
     }
   }
   ASSERT_TRUE(tree.validate());
@@ -292,9 +292,9 @@ TEST(AabbTree, GridTreeAreaRatioIsCloseToABalancedSplit) {
 TEST(AabbTree, AreaRatioOfATwoLeafTreeIsOne) {
   AabbTree tree;
   EXPECT_EQ(tree.area_ratio(), 0.0f);
-  tree.create_proxy({{0.0f, 0.0f}, {1.0f, 1.0f}}, 0);
+  tree.create_proxy({{0.0f, 0.0f}, {1.0f, 1.0f}});
   EXPECT_EQ(tree.area_ratio(), 0.0f);
-  tree.create_proxy({{2.0f, 0.0f}, {3.0f, 1.0f}}, 1);
+  tree.create_proxy({{2.0f, 0.0f}, {3.0f, 1.0f}});
   EXPECT_EQ(tree.area_ratio(), 1.0f);
   EXPECT_EQ(tree.height(), 1);
 }

@@ -46,10 +46,9 @@ void AabbTree::reserve(int proxies) {
   leaves_.reserve(static_cast<std::size_t>(proxies));
 }
 
-int AabbTree::create_proxy(const FxAABB& fat_box, std::uint32_t user_data) {
+int AabbTree::create_proxy(const FxAABB& fat_box) {
   const int leaf = allocate_node();
   nodes_[leaf].box = fat_box;
-  nodes_[leaf].user_data = user_data;
   insert_leaf(leaf);
   ++proxy_count_;
   return leaf;

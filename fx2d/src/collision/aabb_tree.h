@@ -22,7 +22,7 @@ class AabbTree {
   // Grows storage for this many proxies, so that later operations up to that size do not allocate.
   void reserve(int proxies);
   // Adds a leaf holding `fat_box` and returns its proxy id (a node index, stable until destroyed).
-  int create_proxy(const FxAABB& fat_box, std::uint32_t user_data);
+  int create_proxy(const FxAABB& fat_box);
   void destroy_proxy(int proxy);
   // Replaces the proxy's fat box: the leaf is removed and reinserted, unless its parent's box
   // still encloses the new one.
@@ -41,7 +41,6 @@ class AabbTree {
   void refit_or_rebuild(float allowed_growth);
 
   const FxAABB& fat_box(int proxy) const { return nodes_[proxy].box; }
-  std::uint32_t user_data(int proxy) const { return nodes_[proxy].user_data; }
 
   // Calls visit(proxy) for every leaf whose fat box overlaps `box`, in a deterministic order;
   // visit returns false to stop early. Holds its stack on the caller's stack, not in the tree, so
@@ -70,9 +69,10 @@ class AabbTree {
   bool validate() const;
 
  private:
-  struct Node {
+  // 32 bytes, aligned to them: a node never straddles two cache lines, and a walk reads a box
+  // and the links beside it with one line.
+  struct alignas(32) Node {
     FxAABB box;
-    std::uint32_t user_data = 0;
     int parent_or_next = null_node;  // parent while in the tree, next free node while free
     int child1 = null_node;
     int child2 = null_node;

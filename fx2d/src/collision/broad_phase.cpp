@@ -154,13 +154,13 @@ void BroadPhase::reserve(std::size_t bodies) {
 
 void BroadPhase::add_body(BodyRecord& record, const FxAABB& aabb, std::uint32_t index) {
   const FxAABB fat = fat_box_for(aabb, {});
-  record.proxy = tree.create_proxy(fat, 0);
+  record.proxy = tree.create_proxy(fat);
   if (body_of_proxy.size() <= static_cast<std::size_t>(record.proxy)) {
     body_of_proxy.resize(record.proxy + 1);
     proxy_moved.resize(record.proxy + 1);
   }
   if (record.type != FxBodyType::dynamic) {
-    record.fixed_proxy = fixed_tree.create_proxy(fat, 0);
+    record.fixed_proxy = fixed_tree.create_proxy(fat);
     if (body_of_fixed_proxy.size() <= static_cast<std::size_t>(record.fixed_proxy)) {
       body_of_fixed_proxy.resize(record.fixed_proxy + 1);
     }
