@@ -147,6 +147,9 @@ TEST(Validation, SceneSettingsNameTheBadField) {
   s = {};
   s.dt = 1.0e-40f;  // positive, but the substep dt / substeps would underflow to 0
   EXPECT_NE(error_of([&] { FxScene scene(s); }).find("dt"), std::string::npos);
+  s = {};
+  s.rest_schedule_time = -1.0f;
+  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("rest_schedule_time"), std::string::npos);
 }
 
 TEST(Validation, EntityDefinitionsNameTheBadField) {

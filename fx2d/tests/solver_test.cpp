@@ -347,5 +347,91 @@ TEST(Solver, BodyFarFromOriginMovesLikeOneAtOrigin) {
   EXPECT_NEAR(far, near, 1e-4);
 }
 
+// A column of ten boxes on the ground, and the scene stepping it without sleep, so that the stack
+// stands on the solver, not by being frozen.
+struct RestingColumn {
+  explicit RestingColumn(bool rest_schedule) : scene(settings_for(rest_schedule)) {
+    add_ground(scene);
+    for (int i = 0; i < 10; ++i) boxes.push_back(add_box(scene, {0.0f, 0.5f + static_cast<float>(i)}));
+  }
+  static FxSceneSettings settings_for(bool rest_schedule) {
+    FxSceneSettings settings;
+    settings.sleeping = false;
+    settings.rest_schedule = rest_schedule;
+    return settings;
+  }
+  FxScene scene;
+  std::vector<std::shared_ptr<FxEntity>> boxes;
+};
+
+bool took_rest_schedule(const FxScene& scene) {
+  return scene.profile().velocity_passes == 1 && scene.profile().relax_passes == 1;
+}
+
+TEST(RestSchedule, AColumnAtRestTakesItAndStandsAsOnTheFullSchedule) {
+  RestingColumn rest(true), full(false);
+  int rest_steps = 0;
+  for (int step = 0; step < 600; ++step) {
+    rest.scene.step();
+    full.scene.step();
+    rest_steps += took_rest_schedule(rest.scene) ? 1 : 0;
+    EXPECT_FALSE(took_rest_schedule(full.scene));
+  }
+  // The column rests from its first steps: all but those before rest_schedule_time (0.1 s) and a
+  // few while it settles take one soft and one rigid pass.
+  EXPECT_GT(rest_steps, 580);
+  for (int i = 0; i < 10; ++i) {
+    const FxVec2f p = rest.boxes[i]->position();
+    // As TenBoxStackStandsForTenSeconds asks of the full schedule, and within 0.1 mm of where the
+    // full schedule holds the box: the substeps, not the passes, hold a resting stack.
+    EXPECT_LT(std::fabs(p.x), 1e-3f) << "box " << i;
+    EXPECT_LT(0.5f + static_cast<float>(i) - p.y, 5e-3f) << "box " << i;
+    EXPECT_NEAR(p.y, full.boxes[i]->position().y, 1e-4f) << "box " << i;
+    EXPECT_LT(std::fabs(rest.boxes[i]->angle()), 1e-3f) << "box " << i;
+    EXPECT_LT(length(rest.boxes[i]->linear_velocity()), 0.01f) << "box " << i;
+  }
+}
+
+TEST(RestSchedule, OneMovingBodyKeepsTheWholeWorldOnTheFullSchedule) {
+  // A ball thrown up far from the column is never at rest for 0.1 s (near the top of its flight it
+  // is slower than the sleep speed for about 0.01 s): every step takes the full passes, and the
+  // column comes out bit for bit as with the rest schedule off.
+  RestingColumn rest(true), full(false);
+  for (RestingColumn* world : {&rest, &full}) {
+    FxEntityDef ball;
+    ball.shape = FxShape::circle(0.25f);
+    ball.position = {20.0f, 1.0f};
+    ball.linear_velocity = {0.0f, 25.0f};
+    world->scene.create_entity(ball);
+  }
+  for (int step = 0; step < 270; ++step) {  // 4.5 s: up for 2.5 s, down to the ground by 5.05 s
+    rest.scene.step();
+    full.scene.step();
+    ASSERT_FALSE(took_rest_schedule(rest.scene)) << "step " << step;
+  }
+  for (int i = 0; i < 10; ++i) {
+    EXPECT_EQ(rest.boxes[i]->position().y, full.boxes[i]->position().y) << "box " << i;
+    EXPECT_EQ(rest.boxes[i]->angle(), full.boxes[i]->angle()) << "box " << i;
+  }
+}
+
+TEST(RestSchedule, AKickedBoxGivesTheNextStepTheFullPassesUntilItRestsAgain) {
+  RestingColumn column(true);
+  run(column.scene, 1.0f);
+  ASSERT_TRUE(took_rest_schedule(column.scene));
+  // Set on an awake body that has rested for a second: its rest time still counts, its speed no
+  // longer does.
+  column.boxes[9]->set_linear_velocity({0.0f, 2.0f});
+  column.scene.step();
+  EXPECT_EQ(column.scene.profile().velocity_passes, column.scene.settings().velocity_passes);
+  EXPECT_EQ(column.scene.profile().relax_passes, column.scene.settings().relax_passes);
+  // It rises 0.2 m, lands in about 0.4 s and settles; the world returns to the rest schedule.
+  int full_steps = 1;
+  for (int step = 0; step < 120 && !took_rest_schedule(column.scene); ++step, ++full_steps) column.scene.step();
+  EXPECT_TRUE(took_rest_schedule(column.scene));
+  EXPECT_GT(full_steps, 24);  // the flight alone, and rest_schedule_time after it
+  EXPECT_NEAR(column.boxes[9]->position().y, 9.5f, 5e-3f);
+}
+
 }  // namespace
 }  // namespace fx2d

@@ -99,7 +99,7 @@ std::shared_ptr<fx2d::FxConstraint> make_joint(const std::vector<std::shared_ptr
 }
 
 // The knobs, in the order create() receives their values; each default is this revision's own.
-enum Knob { substeps, velocity_passes, sleeping, relax_passes, max_push_speed, workers, knob_count };
+enum Knob { substeps, velocity_passes, sleeping, relax_passes, max_push_speed, workers, rest_schedule, knob_count };
 
 const fx2d::FxSceneSettings engine_defaults{};
 
@@ -120,6 +120,21 @@ void set_workers(Settings& settings, int workers) {
   if constexpr (requires { settings.workers; }) settings.workers = workers;
 }
 
+// Revisions from before the rest schedule take every step's passes from the settings.
+template <class Settings>
+bool default_rest_schedule(const Settings& settings) {
+  if constexpr (requires { settings.rest_schedule; }) {
+    return settings.rest_schedule;
+  } else {
+    return false;
+  }
+}
+
+template <class Settings>
+void set_rest_schedule(Settings& settings, bool on) {
+  if constexpr (requires { settings.rest_schedule; }) settings.rest_schedule = on;
+}
+
 const Fx2dBenchKnob knobs[knob_count] = {
     {"substeps", FX2D_BENCH_KNOB_INTEGER, 1, 1000, static_cast<double>(engine_defaults.substeps),
      "velocity substeps per step"},
@@ -133,6 +148,8 @@ const Fx2dBenchKnob knobs[knob_count] = {
      "fastest an overlap is pushed apart, m/s"},
     {"workers", FX2D_BENCH_KNOB_INTEGER, 1, 64, static_cast<double>(default_workers(engine_defaults)),
      "threads a step may use; the results are the same on any number"},
+    {"rest_schedule", FX2D_BENCH_KNOB_BOOLEAN, 0, 1, default_rest_schedule(engine_defaults) ? 1.0 : 0.0,
+     "one soft and one rigid pass per substep while every awake body rests"},
 };
 
 // Revisions from before FxSceneSettings::max_linear_speed accept any speed.
@@ -156,6 +173,7 @@ fx2d::FxSceneSettings scene_settings(const Fx2dBenchScene& scene) {
   settings.relax_passes = static_cast<int>(knob[relax_passes]);
   settings.max_push_speed = static_cast<float>(knob[max_push_speed]);
   set_workers(settings, static_cast<int>(knob[workers]));
+  set_rest_schedule(settings, knob[rest_schedule] != 0.0);
   return settings;
 }
 

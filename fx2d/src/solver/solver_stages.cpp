@@ -61,6 +61,18 @@ void refresh_box(BodySim& sim, BodyRecord& record, const BroadPhase& broad) {
   broad.refresh(record, sim.aabb);
 }
 
+// Whether a moving body keeps the world in the rest schedule: a dynamic body that has rested long
+// enough and is still slow (the user may have set its velocity or struck it since), or a kinematic
+// one standing still. sleep_time is counted whether or not bodies may sleep.
+bool keeps_rest(const BodyRecord& record, const BodySim& sim, const FxSceneSettings& settings) {
+  const FxVec2f v = sim.linear_velocity;
+  const float w = sim.angular_velocity;
+  if (record.type != FxBodyType::dynamic) return v.x == 0.0f && v.y == 0.0f && w == 0.0f;
+  const float linear = settings.linear_sleep_speed, angular = settings.angular_sleep_speed;
+  return record.sleep_time >= settings.rest_schedule_time && v.x * v.x + v.y * v.y < linear * linear &&
+         w * w < angular * angular;
+}
+
 }  // namespace
 
 void SolverData::reserve(std::size_t bodies) {
@@ -82,6 +94,7 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   BodyIntegration& integration = solver.integration;
   std::vector<FxBodyState>& states = solver.states;
   integration.clear(step.body_count, records.size());
+  solver.passes = {settings.velocity_passes, settings.relax_passes};
   // A world asleep gathers no state and builds no constraint (a touching constraint always has an
   // awake body): the stages after this one read only the empty lists of moving bodies and
   // constraints.
@@ -92,12 +105,14 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   }
   const float h = step.substep_dt;
   states.assign(records.size() + 1, FxBodyState{});
+  bool at_rest = settings.rest_schedule;
   for (std::uint32_t i = 0; i < records.size(); ++i) {
     const bool moves = records[i].awake && records[i].type != FxBodyType::static_body;
     if (!moves) continue;
     FxBodyState& state = states[i];
     state.linear_velocity = sims[i].linear_velocity;
     state.angular_velocity = sims[i].angular_velocity;
+    at_rest = at_rest && keeps_rest(records[i], sims[i], settings);
     integration.add_moving(i);
     if (records[i].type != FxBodyType::dynamic) continue;
     state.flags = movable_flag;
@@ -105,6 +120,7 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
                             1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping));
   }
   integration.finish();
+  if (at_rest) solver.passes = PassCounts{};  // one soft and one rigid pass
   solver.contact_solver.prepare(contacts, bodies);
 }
 
@@ -144,7 +160,7 @@ class Substep {
   }
 
   void solve() {
-    for (int pass = 0; pass < step_.settings.velocity_passes; ++pass) velocity_pass(FxStage::solve, true);
+    for (int pass = 0; pass < solver_.passes.velocity; ++pass) velocity_pass(FxStage::solve, true);
     solver_.contact_batches.push(solver_.states, step_.contact, step_.settings.force_scalar_solver, step_.tasks);
   }
 
@@ -159,7 +175,7 @@ class Substep {
     step_.clock.switch_to(FxStage::relax);
     solver_.contact_batches.take_back_push(solver_.states, step_.settings.force_scalar_solver, step_.tasks);
     solver_.contact_batches.update_separations(solver_.states, step_.contact.linear_slop, step_.tasks);
-    for (int pass = 0; pass < step_.settings.relax_passes; ++pass) velocity_pass(FxStage::relax, false);
+    for (int pass = 0; pass < solver_.passes.relax; ++pass) velocity_pass(FxStage::relax, false);
   }
 
  private:

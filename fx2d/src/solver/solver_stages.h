@@ -23,18 +23,26 @@ namespace fx2d::detail {
 
 struct StepContext;
 
+// The passes each substep of this step takes: the settings', or the rest schedule's
+// (FxSceneSettings::rest_schedule).
+struct PassCounts {
+  int velocity = 1;
+  int relax = 1;
+};
+
 struct SolverData {
   std::vector<FxBodyState> states;
   BodyIntegration integration;        // the awake moving bodies, for the substep loops
   ContactSolver contact_solver;
   ContactGraph contact_graph;
   ContactBatches contact_batches;
+  PassCounts passes;                  // chosen by prepare_solver
 
   void reserve(std::size_t bodies);
 };
 
-// Stage prepare: gathers the bodies' hot state and lists one constraint per touching contact
-// with an awake body.
+// Stage prepare: gathers the bodies' hot state, lists one constraint per touching contact with an
+// awake body and chooses the step's passes.
 void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts);
 // Stage colour_and_pack: colours the contact constraints, builds each from its contact and bodies
 // into its lane of the batches and works out their separations at the step's start.

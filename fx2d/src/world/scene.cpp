@@ -47,6 +47,8 @@ void validate_settings(const FxSceneSettings& s) {
   require(s.velocity_passes >= 1, "velocity_passes", "an integer >= 1");
   require(s.relax_passes >= 1, "relax_passes", "an integer >= 1");
   require(s.position_passes >= 0, "position_passes", "an integer >= 0");
+  require(std::isfinite(s.rest_schedule_time) && s.rest_schedule_time >= 0.0f, "rest_schedule_time",
+          "a finite number >= 0");
   require(std::isfinite(s.time_to_sleep) && s.time_to_sleep >= 0.0f, "time_to_sleep", "a finite number >= 0");
   require(std::isfinite(s.linear_sleep_speed) && s.linear_sleep_speed >= 0.0f, "linear_sleep_speed", "a finite number >= 0");
   require(std::isfinite(s.angular_sleep_speed) && s.angular_sleep_speed >= 0.0f, "angular_sleep_speed", "a finite number >= 0");
@@ -123,6 +125,8 @@ void World::step() {
     clock.switch_to(FxStage::colour_and_pack);
     colour_and_pack(step, solver_, bodies_, contacts_);
     solve_substeps(step, solver_, bodies_, constraints_);
+    profile_.velocity_passes = solver_.passes.velocity;
+    profile_.relax_passes = solver_.passes.relax;
     clock.switch_to(FxStage::restitution);
     apply_restitution(step, solver_);
     clock.switch_to(FxStage::position_solve);
