@@ -45,8 +45,8 @@ struct FxSceneSettings {
   int relax_passes = 3;
   int position_passes = 1;             // >= 0, final projection passes per step
   // The rest schedule: a step in which every awake dynamic body has rested (slower than the sleep
-  // speeds) for rest_schedule_time, and no awake kinematic body moves, takes one soft and one rigid
-  // pass per substep instead. What holds a resting world is the substeps' stiffness; the passes
+  // speeds, as sleeping counts it: a body that may not sleep never rests) for rest_schedule_time,
+  // and no awake kinematic body moves, takes one soft and one rigid pass per substep instead. What holds a resting world is the substeps' stiffness; the passes
   // converge what motion brings. At rest 8 x 1 x 1 keeps a stack of 116 boxes and a mass ratio of
   // 1024 (8 x 2 x 3 throughout: 120 and 1117; 8 x 1 x 2 at rest: 119 and 1117, but 0.80 of the
   // step's time on stacks where 8 x 1 x 1 takes 0.69), where 4 x 2 x 3 at rest keeps 76 and 861, and
