@@ -120,7 +120,7 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
                             1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping));
   }
   integration.finish();
-  if (at_rest) solver.passes = PassCounts{};  // one soft and one rigid pass
+  if (at_rest) solver.passes = rest_schedule_passes;
   solver.contact_solver.prepare(contacts, bodies);
 }
 

@@ -26,9 +26,10 @@ struct StepContext;
 // The passes each substep of this step takes: the settings', or the rest schedule's
 // (FxSceneSettings::rest_schedule).
 struct PassCounts {
-  int velocity = 1;
-  int relax = 1;
+  int velocity = 0;
+  int relax = 0;
 };
+inline constexpr PassCounts rest_schedule_passes{1, 1};
 
 struct SolverData {
   std::vector<FxBodyState> states;
