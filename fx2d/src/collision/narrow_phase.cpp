@@ -131,6 +131,22 @@ PairUpdate touching_update(CachedContact& contact) {
   }
 }
 
+// Collides a pair of circles. Its one point always has the same feature id and its normal turns
+// with neither body, so the record keeps no frame and its point keeps its impulses while it lasts:
+// what collide_pair's general path finds for circles, without copying out the record's impulses.
+PairUpdate collide_circle_pair(CachedContact& contact, const FxShape& a, const FxTransform& xf_a, const FxShape& b,
+                               const FxTransform& xf_b, float dt, const PairMotion& motion) {
+  const bool had_point = contact.manifold.point_count > 0;
+  Manifold& manifold = contact.manifold;
+  collide_circles(a, xf_a, b, xf_b, speculative_distance(dt, motion.fastest_closing()), manifold);
+  if (manifold.point_count > 0 && !any_point_within_margin(manifold, dt, motion)) manifold.point_count = 0;
+  if (!had_point || manifold.point_count == 0) {
+    contact.normal_impulse[0] = 0.0f;
+    contact.tangent_impulse[0] = 0.0f;
+  }
+  return touching_update(contact);
+}
+
 // Collides one cached pair whose bodies were awake when read, writing only its own record's
 // manifold, impulses and `touching`: leaves the cache's count and the bodies to settle_pair().
 PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const Bodies& bodies, const AabbTree& tree) {
@@ -148,6 +164,9 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
   const FxTransform xf_b{bodies.origin_offset(a, b), sb.rotation};
   const PairMotion motion = pair_motion(sa, sb, ra.shape, rb.shape);
   const float dt = step.settings.dt;
+  if (ra.shape.type() == FxShapeType::circle && rb.shape.type() == FxShapeType::circle) {
+    return collide_circle_pair(contact, ra.shape, xf_a, rb.shape, xf_b, dt, motion);
+  }
   // Resting polygons, the common case in a stack or a settled heap, skip the separating-axis search
   // and the clip while a point stays within the speculative margin.
   if (contact.frame.valid && barely_moved(contact.frame, inv_mul(xf_a, xf_b), rb.shape)) {
