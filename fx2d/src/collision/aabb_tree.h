@@ -92,22 +92,32 @@ class AabbTree {
   float refit_subtree(int id);
 
   static constexpr int local_stack_size = 128;
-  // A node is pushed only when its box overlaps, tested as its parent opens: a child that misses
-  // costs no trip through the stack.
+  // A child's box is tested as its parent opens: a child that misses costs no trip through the
+  // stack, and of two that overlap the walk goes straight on into the second and pushes only the
+  // first, the order a stack of both would pop them in (the order stays what it was).
   template <class Visit>
   void walk(const FxAABB& box, int* stack, Visit& visit) const {
     if (!overlaps(nodes_[root_].box, box)) return;
     int size = 0;
-    stack[size++] = root_;
-    while (size > 0) {
-      const int id = stack[--size];
+    int id = root_;
+    for (;;) {
       const Node& node = nodes_[id];
       if (node.is_leaf()) {
-        if (!visit(id)) return;
+        if (!visit(id) || size == 0) return;
+        id = stack[--size];
         continue;
       }
-      if (overlaps(nodes_[node.child1].box, box)) stack[size++] = node.child1;
-      if (overlaps(nodes_[node.child2].box, box)) stack[size++] = node.child2;
+      const bool first_overlaps = overlaps(nodes_[node.child1].box, box);
+      if (overlaps(nodes_[node.child2].box, box)) {
+        if (first_overlaps) stack[size++] = node.child1;
+        id = node.child2;
+      } else if (first_overlaps) {
+        id = node.child1;
+      } else if (size > 0) {
+        id = stack[--size];
+      } else {
+        return;
+      }
     }
   }
 
