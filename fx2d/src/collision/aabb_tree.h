@@ -94,9 +94,11 @@ class AabbTree {
   static constexpr int local_stack_size = 128;
   // A child's box is tested as its parent opens: a child that misses costs no trip through the
   // stack, and of two that overlap the walk goes straight on into the second and pushes only the
-  // first, the order a stack of both would pop them in (the order stays what it was).
+  // first, the order a stack of both would pop them in (the order stays what it was). The box is
+  // taken by value: a reference made the compiler reload it for every test, since the visitor's
+  // stores might have changed it.
   template <class Visit>
-  void walk(const FxAABB& box, int* stack, Visit& visit) const {
+  void walk(FxAABB box, int* stack, Visit& visit) const {
     if (!overlaps(nodes_[root_].box, box)) return;
     int size = 0;
     int id = root_;
