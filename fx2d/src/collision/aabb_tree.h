@@ -48,8 +48,8 @@ class AabbTree {
   template <class Visit>
   void query(const FxAABB& box, Visit&& visit) const {
     if (root_ == null_node) return;
-    // Depth first, a walk holds at most one waiting sibling per level above the node it opens,
-    // and that node's two children: height + 1 entries at most.
+    // Depth first, a walk holds at most one waiting sibling per level above the node it opens:
+    // fewer than height + 1 entries.
     const int deepest = nodes_[root_].height + 1;
     if (deepest <= local_stack_size) {
       int stack[local_stack_size];
