@@ -27,15 +27,15 @@ struct FxSceneSettings {
   float dt = 1.0f / 60.0f;             // seconds per step, in [1e-6, 1]
   // The schedule: 8 substeps x (2 soft passes + 3 rigid passes), 40 sweeps over the contacts, where
   // the seeds' 14 x (4 + 4) made 112 and 12 x (2 + 2) 48 (issue 19). The stability suite (here with
-  // the rest schedule below off) sets the floor: fewer than 8 substeps lose the mass ratio and chain load targets (7 x 2 x 3: 939 and
-  // 724, targets 1000 and 500; 6 x 2 x 3: 790 and 512), one soft pass loses the mass ratio (8 x 1 x 3:
-  // 470), and a third rigid pass keeps a box landing flat at 1000 m/s out of a thin floor (8 x 2 x
-  // 2 lets it through at 972 m/s and holds a stack of 108 boxes; 8 x 2 x 3 holds the floor and 120).
-  // Solving a two-point contact's normal rows as one 2x2 block holds that floor at 8 x 2 x 2, but on
-  // box scenes costs the time the pass saved (stacks 200: step 0.98 of this schedule's) and lets
-  // settling_boxes 3000 penetrate 67 mm (median of 21 runs with gravity perturbed by 1e-5, against
-  // 53 mm). Peak penetration is one draw from a wide spread: pile 1200's median over 45 such runs is
-  // 16.3 mm (8 x 2 x 2: 16.9), the unperturbed run's 14.85 mm.
+  // the rest schedule below off) sets the floor: fewer than 8 substeps lose the mass ratio and chain
+  // load targets (7 x 2 x 3: 939 and 724, targets 1000 and 500; 6 x 2 x 3: 790 and 512), one soft pass
+  // loses the mass ratio (8 x 1 x 3: 470), and a third rigid pass keeps a box landing flat at 1000 m/s
+  // out of a thin floor (8 x 2 x 2 lets it through at 972 m/s and holds a stack of 108 boxes; 8 x 2 x
+  // 3 holds the floor and 120). Solving a two-point contact's normal rows as one 2x2 block holds that
+  // floor at 8 x 2 x 2, but on box scenes costs the time the pass saved (stacks 200: step 0.98 of this
+  // schedule's) and lets settling_boxes 3000 penetrate 67 mm (median of 21 runs with gravity perturbed
+  // by 1e-5, against 53 mm). Peak penetration is one draw from a wide spread: pile 1200's median over
+  // 45 such runs is 16.3 mm (8 x 2 x 2: 16.9), the unperturbed run's 14.85 mm.
   int substeps = 8;                    // >= 1
   int velocity_passes = 2;             // >= 1, soft passes per substep that also push overlaps apart
   // >= 1, rigid passes per substep once positions have moved, which take out what the soft
@@ -45,13 +45,14 @@ struct FxSceneSettings {
   int relax_passes = 3;
   int position_passes = 1;             // >= 0, final projection passes per step
   // The rest schedule: a step in which every awake dynamic body has rested (slower than the sleep
-  // speeds, as sleeping counts it: a body that may not sleep never rests) for rest_schedule_time,
-  // and no awake kinematic body moves, takes one soft and one rigid pass per substep instead. What holds a resting world is the substeps' stiffness; the passes
-  // converge what motion brings. At rest 8 x 1 x 1 keeps a stack of 116 boxes and a mass ratio of
-  // 1024 (8 x 2 x 3 throughout: 120 and 1117; 8 x 1 x 2 at rest: 119 and 1117, but 0.80 of the
-  // step's time on stacks where 8 x 1 x 1 takes 0.69), where 4 x 2 x 3 at rest keeps 76 and 861, and
-  // with no rigid pass a resting stack gains kinetic energy. One moving body anywhere gives the
-  // whole step the full schedule, so a kick or an impact is solved as before.
+  // speeds, as sleeping counts it: a body that may not sleep never rests) for rest_schedule_time, and
+  // no awake kinematic body moves, takes one soft and one rigid pass per substep instead. What holds a
+  // resting world is the substeps' stiffness; the passes converge what motion brings. At rest 8 x 1 x
+  // 1 keeps a stack of 116 boxes and a mass ratio of 1024 (8 x 2 x 3 throughout: 120 and 1117; 8 x 1 x
+  // 2 at rest: 119 and 1117, but 0.80 of the step's time on stacks where 8 x 1 x 1 takes 0.69), where
+  // 4 x 2 x 3 at rest keeps 76 and 861, and with no rigid pass a resting stack gains kinetic energy.
+  // One moving body anywhere gives the whole step the full schedule, so a kick or an impact is solved
+  // as before.
   bool rest_schedule = true;
   float rest_schedule_time = 0.1f;     // seconds, >= 0; longer than a bounce's or a swing's pause
   bool sleeping = true;                // let resting bodies sleep

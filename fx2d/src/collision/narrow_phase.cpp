@@ -131,6 +131,12 @@ PairUpdate touching_update(CachedContact& contact) {
   }
 }
 
+// Keeps every point of a freshly collided `manifold` while any lies within the speculative margin
+// of the pair's closing speed along its normal, else none.
+void keep_points_within_margin(Manifold& manifold, float dt, const PairMotion& motion) {
+  if (manifold.point_count > 0 && !any_point_within_margin(manifold, dt, motion)) manifold.point_count = 0;
+}
+
 // Collides a pair of circles. Its one point always has the same feature id and its normal turns
 // with neither body, so the record keeps no frame and its point keeps its impulses while it lasts:
 // what collide_pair's general path finds for circles, without copying out the record's impulses.
@@ -139,7 +145,7 @@ PairUpdate collide_circle_pair(CachedContact& contact, const FxShape& a, const F
   const bool had_point = contact.manifold.point_count > 0;
   Manifold& manifold = contact.manifold;
   collide_circles(a, xf_a, b, xf_b, speculative_distance(dt, motion.fastest_closing()), manifold);
-  if (manifold.point_count > 0 && !any_point_within_margin(manifold, dt, motion)) manifold.point_count = 0;
+  keep_points_within_margin(manifold, dt, motion);
   if (!had_point || manifold.point_count == 0) {
     contact.normal_impulse[0] = 0.0f;
     contact.tangent_impulse[0] = 0.0f;
@@ -183,7 +189,7 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
           manifold.separating_face, manifold);
   // Every point is kept while any is within the margin: both ends of a polygon's clipped edge, the
   // far one for a body struck or set turning within the step (collide.cpp).
-  if (manifold.point_count > 0 && !any_point_within_margin(manifold, dt, motion)) manifold.point_count = 0;
+  keep_points_within_margin(manifold, dt, motion);
   ContactCache::carry_impulses(previous, contact);
   const bool polygons = ra.shape.type() == FxShapeType::polygon && rb.shape.type() == FxShapeType::polygon;
   contact.frame.valid = false;
