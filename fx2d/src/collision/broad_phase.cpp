@@ -30,12 +30,7 @@ constexpr std::uint32_t moved_bodies_per_block = 64;
 constexpr std::uint32_t min_parallel_moved_bodies = 256;
 
 // A proxy's fat box: the tight box enlarged by a margin and swept by `displacement`.
-FxAABB fat_box_for(const FxAABB& tight, FxVec2f displacement) {
-  FxAABB fat = inflate(tight, proxy_margin);
-  if (displacement.x < 0.0f) fat.lower.x += displacement.x; else fat.upper.x += displacement.x;
-  if (displacement.y < 0.0f) fat.lower.y += displacement.y; else fat.upper.y += displacement.y;
-  return fat;
-}
+FxAABB fat_box_for(const FxAABB& tight, FxVec2f displacement) { return swept(inflate(tight, proxy_margin), displacement); }
 
 std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
   return a < b ? (std::uint64_t{a} << 32 | b) : (std::uint64_t{b} << 32 | a);
@@ -58,6 +53,8 @@ void create_contact(ContactCache& contacts, std::vector<BodyRecord>& records, st
   contact.static_friction = std::sqrt(ma.static_friction * mb.static_friction);
   contact.dynamic_friction = std::sqrt(ma.dynamic_friction * mb.dynamic_friction);
   contact.restitution = ma.restitution > mb.restitution ? ma.restitution : mb.restitution;
+  contact.round_a = records[a].shape.type() == FxShapeType::circle;
+  contact.round_b = records[b].shape.type() == FxShapeType::circle;
 }
 
 // The bodies that already share a contact with one body: its contact list read once, into an
@@ -180,10 +177,6 @@ void BroadPhase::renumber(const BodyRecord& record, std::uint32_t index) {
 
 bool BroadPhase::jointed(std::uint32_t a, std::uint32_t b) const {
   return std::binary_search(jointed_pairs.begin(), jointed_pairs.end(), pair_key(a, b));
-}
-
-void BroadPhase::refresh(BodyRecord& record, const FxAABB& aabb) const {
-  if (!tree.fat_box(record.proxy).contains(aabb)) record.moved = true;
 }
 
 void update_broad_phase(const StepContext& step, BroadPhase& broad, Bodies& bodies, ContactCache& contacts,

@@ -3,6 +3,7 @@
 // read the fat boxes.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -13,6 +14,16 @@
 namespace fx2d::detail {
 
 struct StepContext;
+
+// `box` stretched to cover itself moved by `displacement`. Without branches: refresh() runs for every
+// moving body every step, and the signs of a heap's velocities are a coin toss.
+inline FxAABB swept(FxAABB box, FxVec2f displacement) {
+  box.lower.x += std::min(displacement.x, 0.0f);
+  box.lower.y += std::min(displacement.y, 0.0f);
+  box.upper.x += std::max(displacement.x, 0.0f);
+  box.upper.y += std::max(displacement.y, 0.0f);
+  return box;
+}
 
 struct BroadPhase {
   AabbTree tree;
@@ -48,8 +59,14 @@ struct BroadPhase {
   void renumber(const BodyRecord& record, std::uint32_t index);
   // True when a constraint joins bodies a and b: such a pair never collides.
   bool jointed(std::uint32_t a, std::uint32_t b) const;
-  // Marks the body moved when its tight box has left its proxy's fat box.
-  void refresh(BodyRecord& record, const FxAABB& aabb) const;
+  // Marks the body moved when its tight box, swept by the motion its velocity gives it over the next
+  // step, has left its proxy's fat box. The tight box alone would let two bodies that sped up inside
+  // their fat boxes (struck by a third) close on each other unsearched: no pair, no speculative
+  // point, and they overlap by what they close within the step (in a collapsing pile of circles,
+  // 99 mm). Inline: it runs for every moving body every step.
+  void refresh(BodyRecord& record, const FxAABB& aabb, FxVec2f next_step_motion) const {
+    if (!tree.fat_box(record.proxy).contains(swept(aabb, next_step_motion))) record.moved = true;
+  }
 };
 
 // Stage: moves the proxies of the bodies that left their fat boxes and creates a contact for each

@@ -33,6 +33,10 @@ struct CachedContact {
   std::uint32_t body_b = 0;
   bool alive = false;
   bool touching = false;
+  // Whether each body is a circle, whose point facing the other body stays on the line of centres
+  // however it spins: the solver's anchors on it do not turn with it (contact_packing.cpp).
+  bool round_a = false;
+  bool round_b = false;
   int next_edge[2] = {-1, -1};
   int prev_edge[2] = {-1, -1};
   Manifold manifold;

@@ -52,10 +52,10 @@ class FastBodyPass {
  public:
   // A fast body stops `gap` short of touching, so that the next step's contact has room to act.
   // `others_motion` bounds how far any body it is swept against moved this step.
-  FastBodyPass(float gap, float others_motion, float max_speed, std::span<FxBodyState> states, Bodies& bodies,
+  FastBodyPass(float gap, float others_motion, float max_speed, float dt, std::span<FxBodyState> states, Bodies& bodies,
                const BroadPhase& broad, bool bullets)
-      : gap_(gap), others_motion_(others_motion), max_speed_(max_speed), states_(states), bodies_(bodies), broad_(broad),
-        bullets_(bullets) {}
+      : gap_(gap), others_motion_(others_motion), max_speed_(max_speed), dt_(dt), states_(states), bodies_(bodies),
+        broad_(broad), bullets_(bullets) {}
 
   void advance(std::uint32_t body) {
     const Sweep sweep = sweep_of(bodies_, states_, body, FxVec2f{});
@@ -121,7 +121,7 @@ class FastBodyPass {
     state.delta_position = carried.p + rotate(carried.q, sim.local_center) - sweep.center0;
     state.delta_rotation = inv_mul(sweep.rotation0, carried.q);
     record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
-    broad_.refresh(record, sim.aabb);
+    broad_.refresh(record, sim.aabb, dt_ * sim.linear_velocity);
     if (impact.from_contact) {
       const Separation at_contact = shape_separation(record.shape, at_impact, bodies_.records[impact.other].shape,
                                                      hit_at_impact);
@@ -145,6 +145,7 @@ class FastBodyPass {
   float gap_;
   float others_motion_;
   float max_speed_;
+  float dt_;
   std::span<FxBodyState> states_;
   Bodies& bodies_;
   const BroadPhase& broad_;
@@ -199,7 +200,8 @@ void solve_continuous(const StepContext& step, ContinuousScratch& scratch, std::
     const auto in_pass = [&](std::uint32_t body) { return bodies.records[body].bullet == bullets; };
     if (std::none_of(fast.begin(), fast.end(), in_pass)) continue;
     const float others_motion = bullets ? others_motion_for_bullets(states, moving, bodies) : kinematic_motion;
-    FastBodyPass pass(step.settings.linear_slop, others_motion, step.limits.max_speed, states, bodies, broad, bullets);
+    FastBodyPass pass(step.settings.linear_slop, others_motion, step.limits.max_speed, step.settings.dt, states, bodies,
+                      broad, bullets);
     // A fast body moves only itself, and is swept only against bodies its pass never moves (not
     // dynamic in the first pass, not bullets in the second), so a pass's bodies advance on any
     // thread in any order.

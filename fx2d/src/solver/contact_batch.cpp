@@ -272,7 +272,8 @@ struct LanePoses {
 };
 
 // Every lane's normal turned as its NormalFrame says: with A, with B, or not at all. The last
-// multiplies by exactly one and zero, so a world-frame normal keeps its bits.
+// multiplies by exactly one and zero, so a world-frame normal keeps its bits. A circle's anchor
+// turns as the normal does (ContactBatch::round_sides), so its rotation becomes the normal's.
 [[gnu::always_inline]] inline void turn_normals(const ContactBatch& __restrict k, LanePoses& __restrict q) {
   constexpr auto with_a = static_cast<std::int32_t>(NormalFrame::body_a);
   constexpr auto with_b = static_cast<std::int32_t>(NormalFrame::body_b);
@@ -286,6 +287,11 @@ struct LanePoses {
     const float s = frame == with_a ? as : (frame == with_b ? bs : 0.0f);
     q.nx[lane] = c * k.normal_x[lane] - s * k.normal_y[lane];
     q.ny[lane] = s * k.normal_x[lane] + c * k.normal_y[lane];
+    const std::int32_t round = k.round_sides[lane];
+    q.aqc[lane] = (round & round_side_a) != 0 ? c : ac;
+    q.aqs[lane] = (round & round_side_a) != 0 ? s : as;
+    q.bqc[lane] = (round & round_side_b) != 0 ? c : bc;
+    q.bqs[lane] = (round & round_side_b) != 0 ? s : bs;
   }
 }
 

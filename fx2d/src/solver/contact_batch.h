@@ -46,6 +46,9 @@ struct LaneBody {
   float vx, vy, w;
 };
 
+inline constexpr std::int32_t round_side_a = 1;
+inline constexpr std::int32_t round_side_b = 2;
+
 struct ContactBatch;
 // The arithmetic of one lane: one contact of a batch in one pass.
 using LaneFn = void (*)(ContactBatch& batch, int lane, LaneBody& a, LaneBody& b, const ContactSolveParams& params);
@@ -102,6 +105,11 @@ struct alignas(32) ContactBatch {
   // The body the normal turns with when the separations are updated: a NormalFrame, as an int so
   // that the lane loop compares it in vector registers.
   std::int32_t normal_frame[lane_count];
+  // Which bodies are circles (round_side_a, round_side_b), whose anchors turn with the normal, not
+  // with the body: a circle's point facing the other body stays on the line of centres however it
+  // spins. Turned with a rolling circle, the anchor would leave the surface and open a false gap
+  // of (1 - cos turn) x radius, 7 mm for a 1 m ball rolling at 5 m/s, and the contact would let go.
+  std::int32_t round_sides[lane_count];
   // Per manifold point, each point's columns together: a one-point batch never touches the
   // second point's, so its passes read half the cache lines.
   PointColumns point[2];

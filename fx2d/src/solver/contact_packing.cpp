@@ -59,6 +59,7 @@ void gather_lane(ContactBatch& k, LaneInputs& in, int lane, const ConstraintSour
   k.normal_x[lane] = contact.manifold.normal.x;
   k.normal_y[lane] = contact.manifold.normal.y;
   k.normal_frame[lane] = static_cast<std::int32_t>(contact.manifold.normal_frame);
+  k.round_sides[lane] = (contact.round_a ? round_side_a : 0) | (contact.round_b ? round_side_b : 0);
   k.inv_inertia_a[lane] = bodies.sims[source.body_a].inv_inertia;
   k.inv_inertia_b[lane] = bodies.sims[source.body_b].inv_inertia;
   k.restitution[lane] = contact.restitution;

@@ -45,11 +45,19 @@ struct LaneConstraint {
     b.angular_velocity += inv_inertia_b() * cross(anchor_b(point), impulse);
   }
 
-  // Point `point`'s separation now, from the displacement and rotation of both bodies since the
-  // step began.
-  float current_separation(const FxBodyState& a, const FxBodyState& b, int point) const {
-    const FxVec2f moved_a = rotate(a.delta_rotation, anchor_a(point));
-    const FxVec2f moved_b = rotate(b.delta_rotation, anchor_b(point));
+  // How each body's anchors have turned since the step began: as the body has, but against the
+  // step's normal, which these passes do not turn, a circle's not at all (ContactBatch::round_sides).
+  FxRot anchor_turn_a(const FxBodyState& a) const {
+    return (k.round_sides[lane] & round_side_a) != 0 ? FxRot{} : a.delta_rotation;
+  }
+  FxRot anchor_turn_b(const FxBodyState& b) const {
+    return (k.round_sides[lane] & round_side_b) != 0 ? FxRot{} : b.delta_rotation;
+  }
+
+  // Point `point`'s separation now, from the displacement of both bodies since the step began and
+  // its anchors as turned since.
+  float current_separation(const FxBodyState& a, const FxBodyState& b, FxVec2f moved_a, FxVec2f moved_b,
+                           int point) const {
     const FxVec2f gap = (b.delta_position - a.delta_position) + (moved_b - moved_a);
     return dot(gap, normal()) + k.point[point].adjusted_separation[lane];
   }
@@ -117,11 +125,11 @@ void ContactSolver::project_positions(const ContactBatches& batches, std::span<F
     FxBodyState& a = states[source.body_a];
     FxBodyState& b = states[source.body_b];
     for (int p = 0; p < source.point_count; ++p) {
-      const float separation = c.current_separation(a, b, p);
+      const FxVec2f moved_a = rotate(c.anchor_turn_a(a), c.anchor_a(p));
+      const FxVec2f moved_b = rotate(c.anchor_turn_b(b), c.anchor_b(p));
+      const float separation = c.current_separation(a, b, moved_a, moved_b, p);
       const float correction = std::clamp(projection_fraction * (separation + linear_slop), -max_projection, 0.0f);
       if (correction == 0.0f) continue;
-      const FxVec2f moved_a = rotate(a.delta_rotation, c.anchor_a(p));
-      const FxVec2f moved_b = rotate(b.delta_rotation, c.anchor_b(p));
       const float mass = c.effective_mass(moved_a, moved_b, c.normal());
       const FxVec2f impulse = (-correction * mass) * c.normal();
       a.delta_position -= c.inv_mass_a() * impulse;

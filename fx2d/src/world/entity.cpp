@@ -174,7 +174,7 @@ void World::refresh_aabb(std::uint32_t index) {
   BodySim& sim = bodies_.sims[index];
   BodyRecord& record = bodies_.records[index];
   record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
-  broad_phase_.refresh(record, sim.aabb);
+  broad_phase_.refresh(record, sim.aabb, settings_.dt * sim.linear_velocity);
   broad_phase_.may_have_moved = true;
 }
 
@@ -261,6 +261,7 @@ void FxEntity::set_linear_velocity(FxVec2f velocity) {
   body.linear_velocity = velocity;
   detail::clamp_velocity(world_->settings(), body);
   wake();
+  world_->refresh_aabb(packed_index_);  // its next step's motion may leave its fat box
 }
 
 void FxEntity::set_angular_velocity(float velocity) {
@@ -282,6 +283,7 @@ void FxEntity::apply_linear_impulse(FxVec2f impulse, FxVec2f world_point) {
   body.angular_velocity += body.inv_inertia * cross(world_point - world_center(), impulse);
   detail::clamp_velocity(world_->settings(), body);
   wake();
+  world_->refresh_aabb(packed_index_);  // its next step's motion may leave its fat box
 }
 
 void FxEntity::apply_force(FxVec2f force) {
