@@ -1,6 +1,6 @@
-// Collects provenance. Build facts come from compile definitions set by harness/CMakeLists.txt at
-// configure time (so the git revision is the one configured, not necessarily the one built after
-// later commits without reconfiguring); machine facts from /proc/cpuinfo and uname.
+// Collects provenance. The git revision is the one built, read on every build into a generated
+// header; the other build facts come from compile definitions set by harness/CMakeLists.txt at
+// configure time; machine facts from /proc/cpuinfo and uname.
 #include "measure/provenance.h"
 
 #include <sys/utsname.h>
@@ -9,9 +9,10 @@
 #include <fstream>
 
 #include "fx2d/Version.h"
+#include "fx2d_bench_git_revision.h"  // generated in the build tree (harness/git_revision.cmake)
 #include "measure/clocks.h"
 
-#ifndef FX2D_BENCH_GIT_REVISION
+#ifndef FX2D_BENCH_BUILD_TYPE
 #error "harness/CMakeLists.txt defines the FX2D_BENCH_* build facts"
 #endif
 

@@ -1,5 +1,6 @@
-// Where and how a run's numbers were taken: the build (recorded by CMake at configure time), the
-// machine and the moment, for the provenance attributes of a result file.
+// Where and how a run's numbers were taken: the build (its git revision read on every build, the
+// rest recorded by CMake at configure time), the machine and the moment, for the provenance
+// attributes of a result file.
 #pragma once
 
 #include <string>

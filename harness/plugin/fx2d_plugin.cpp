@@ -25,6 +25,12 @@
 #include <cstdlib>
 #endif
 
+// Which build this is: given by whoever configures a plugin (ab: the revision it built), except for
+// the plugin of the tree being built, which names the revision read on each build.
+#ifdef FX2D_BENCH_PLUGIN_THIS_BUILD
+#include "fx2d_bench_git_revision.h"  // generated in the build tree (harness/git_revision.cmake)
+#define FX2D_BENCH_PLUGIN_DESCRIPTION FX2D_BENCH_GIT_REVISION " (this build)"
+#endif
 #ifndef FX2D_BENCH_PLUGIN_DESCRIPTION
 #define FX2D_BENCH_PLUGIN_DESCRIPTION ""
 #endif
