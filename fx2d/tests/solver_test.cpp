@@ -213,7 +213,7 @@ TEST(Solver, OverlappingBoxesSeparateWithoutBeingLaunched) {
     scene.step();
     for (const auto& box : boxes) fastest = std::max(fastest, length(box->linear_velocity()));
   }
-  // Overlaps are pushed apart no faster than max_push_speed (5 m/s), and the relaxation pass
+  // Overlaps are pushed apart no faster than max_push_speed (3.5 m/s), and the relaxation pass
   // removes that push from the velocity: nothing should leave faster than that.
   EXPECT_LT(fastest, scene.settings().max_push_speed);
   for (int i = 0; i < 3; ++i) {
