@@ -59,13 +59,13 @@ struct BroadPhase {
   void renumber(const BodyRecord& record, std::uint32_t index);
   // True when a constraint joins bodies a and b: such a pair never collides.
   bool jointed(std::uint32_t a, std::uint32_t b) const;
-  // Marks the body moved when its tight box, swept by the motion its velocity gives it over the next
-  // step, has left its proxy's fat box. The tight box alone would let two bodies that sped up inside
+  // Marks the body moved when its tight box (sim.aabb), swept by the motion its velocity gives it over
+  // the next step of `dt`, has left its proxy's fat box. The tight box alone would let two bodies that sped up inside
   // their fat boxes (struck by a third) close on each other unsearched: no pair, no speculative
   // point, and they overlap by what they close within the step (in a collapsing pile of circles,
   // 99 mm). Inline: it runs for every moving body every step.
-  void refresh(BodyRecord& record, const FxAABB& aabb, FxVec2f next_step_motion) const {
-    if (!tree.fat_box(record.proxy).contains(swept(aabb, next_step_motion))) record.moved = true;
+  void refresh(BodyRecord& record, const BodySim& sim, float dt) const {
+    if (!tree.fat_box(record.proxy).contains(swept(sim.aabb, dt * sim.linear_velocity))) record.moved = true;
   }
 };
 

@@ -121,7 +121,7 @@ class FastBodyPass {
     state.delta_position = carried.p + rotate(carried.q, sim.local_center) - sweep.center0;
     state.delta_rotation = inv_mul(sweep.rotation0, carried.q);
     record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
-    broad_.refresh(record, sim.aabb, dt_ * sim.linear_velocity);
+    broad_.refresh(record, sim, dt_);
     if (impact.from_contact) {
       const Separation at_contact = shape_separation(record.shape, at_impact, bodies_.records[impact.other].shape,
                                                      hit_at_impact);

@@ -58,7 +58,7 @@ void refresh_box(BodySim& sim, BodyRecord& record, const BroadPhase& broad, floa
   FxTransform pose;
   std::memcpy(static_cast<void*>(&pose), &row, sizeof row);
   record.shape.compute_aabb(pose, sim.aabb);
-  broad.refresh(record, sim.aabb, dt * sim.linear_velocity);
+  broad.refresh(record, sim, dt);
 }
 
 // Whether a moving body keeps the world in the rest schedule: a dynamic body that has rested long

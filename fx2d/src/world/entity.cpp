@@ -174,7 +174,7 @@ void World::refresh_aabb(std::uint32_t index) {
   BodySim& sim = bodies_.sims[index];
   BodyRecord& record = bodies_.records[index];
   record.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
-  broad_phase_.refresh(record, sim.aabb, settings_.dt * sim.linear_velocity);
+  broad_phase_.refresh(record, sim, settings_.dt);
   broad_phase_.may_have_moved = true;
 }
 
