@@ -3,7 +3,8 @@
 //
 // Reads top to bottom: the options, the checks made before anything is measured (an existing
 // --out without --force, valgrind missing for --counter), the measurement of every scene x engine
-// in registry order (runner.h holds the measurement invariants; with --counter instructions each
+// in registry order, the engines of one scene in interleaved rounds (runner.h holds the
+// measurement invariants, interleave.h the rounds'; with --counter instructions each
 // timed run is then counted in a child under callgrind, instruction_counter.h), then the output.
 // Nothing here prints to stderr but the progress bar, which is drawn only when stderr is a
 // terminal.
@@ -17,6 +18,8 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include "commands/cli_options.h"
 #include "commands/commands.h"
@@ -24,6 +27,7 @@
 #include "format/summary_format.h"
 #include "measure/clocks.h"
 #include "measure/instruction_counter.h"
+#include "measure/interleave.h"
 #include "measure/interrupt.h"
 #include "measure/provenance.h"
 #include "measure/runner.h"
@@ -81,6 +85,24 @@ class ProgressBar {
   long total_steps_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
+
+// Times `engines` on `scene`: one alone, repeat after repeat; several in rounds, each round one
+// repeat of every engine, forward then backward through them (interleave.h), so that a drift in
+// the machine's speed over the run lands on every engine alike and their ratio stands. One record
+// per engine, in their order.
+std::vector<RunRecord> measure_engines(const SceneSpec& scene, std::span<const EngineInfo* const> engines,
+                                       const RunPlan& plan, ProgressBar& progress, long steps_before) {
+  if (engines.size() == 1) return {measure_engine(scene, *engines[0], plan, progress.for_run(steps_before))};
+  const InterleavePlan rounds{plan.repeats, 0.0, plan.warmup_steps, plan.hash_every, plan.accuracy_every};
+  long steps_done = 0;
+  const TurnProgressFn each_round = [&](std::size_t engine, int round) {
+    const ProgressFn draw = progress.for_run(steps_before + steps_done);
+    if (draw) draw({engines[engine]->name, scene.name, round + 1, plan.repeats, 0});
+    steps_done += scene.steps + (round == 0 ? plan.warmup_steps : 0);
+  };
+  RoundRobinRuns runs = measure_round_robin(scene, engines, rounds, each_round);
+  return std::move(runs.runs);
+}
 
 SceneRecord scene_record(const SceneSpec& scene) {
   const char* metric = scene.primary_metric == PrimaryMetric::displacement ? "displacement" : "penetration";
@@ -212,18 +234,21 @@ void run_command(const RunOptions& options, const std::string& command_line) {
         std::ranges::find(results.scenes, scene.hash, &SceneRecord::hash) == results.scenes.end())
       results.scenes.push_back(scene_record(scene));
     const RunPlan plan = plan_for(options, scene);
-    for (const EngineInfo* engine : engines) {
-      if (!is_mine(cell++)) continue;
-      RunRecord run = measure_engine(scene, *engine, plan, progress.for_run(steps_before));
-      results.partial = run.repeats < plan.repeats;  // interrupt.h: only a SIGINT cuts a run short
+    std::vector<const EngineInfo*> timed;
+    for (const EngineInfo* engine : engines)
+      if (is_mine(cell++)) timed.push_back(engine);
+    std::vector<RunRecord> runs = measure_engines(scene, timed, plan, progress, steps_before);
+    // interrupt.h: only a SIGINT cuts a run short; every repeat measured before it is kept.
+    results.partial = std::ranges::any_of(runs, [&](const RunRecord& run) { return run.repeats < plan.repeats; });
+    for (std::size_t e = 0; e < runs.size(); ++e) {
+      RunRecord& run = runs[e];
       if (counter && !results.partial) {
-        run.instruction_count = counter->count(scene, lookup_name(options.engines, *engine));
+        run.instruction_count = counter->count(scene, lookup_name(options.engines, *timed[e]));
         results.partial = !run.instruction_count;  // interrupt.h: the SIGINT stopped the counting child
       }
       if (run.repeats > 0) results.runs.push_back(std::move(run));
-      if (results.partial) break;  // interrupt.h
-      steps_before += planned_steps(scene, plan);
     }
+    steps_before += static_cast<long>(timed.size()) * planned_steps(scene, plan);
   }
   progress.finish();
 

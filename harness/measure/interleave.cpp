@@ -29,25 +29,31 @@ RunPlan round_plan(const InterleavePlan& plan, bool first_round, int steps) {
 
 }  // namespace
 
-Variant variant_of_round(int round) { return round % 4 == 0 || round % 4 == 3 ? Variant::a : Variant::b; }
+std::size_t engine_of_turn(int turn, std::size_t engines) {
+  const auto round = static_cast<std::size_t>(turn) / engines, place = static_cast<std::size_t>(turn) % engines;
+  return round % 2 == 0 ? place : engines - 1 - place;
+}
 
-InterleavedRuns measure_interleaved(const SceneSpec& scene, const EngineInfo& a, const EngineInfo& b,
-                                    const InterleavePlan& plan, const RoundProgressFn& progress) {
+Variant variant_of_round(int round) { return engine_of_turn(round, 2) == 0 ? Variant::a : Variant::b; }
+
+RoundRobinRuns measure_round_robin(const SceneSpec& scene, std::span<const EngineInfo* const> engines,
+                                   const InterleavePlan& plan, const TurnProgressFn& progress) {
   using clock = std::chrono::steady_clock;
   const clock::time_point start = clock::now();
   const auto over_budget = [&] {
     return plan.time_budget_s > 0 && std::chrono::duration<double>(clock::now() - start).count() >= plan.time_budget_s;
   };
-  InterleavedRuns runs;
-  const int total_rounds = 2 * plan.rounds;
-  for (int round = 0; round < total_rounds; ++round) {
-    const bool balanced = round % 2 == 0;  // both variants have run round / 2 rounds
-    if (balanced && round > 0 && over_budget()) break;
-    const bool is_a = variant_of_round(round) == Variant::a;
-    RunRecord& record = is_a ? runs.a : runs.b;
-    if (progress) progress(round, total_rounds);
+  RoundRobinRuns runs;
+  runs.runs.resize(engines.size());
+  const int turns = plan.rounds * static_cast<int>(engines.size());
+  for (int turn = 0; turn < turns; ++turn) {
+    const bool balanced = turn % static_cast<int>(engines.size()) == 0;  // every engine has run as often
+    if (balanced && turn > 0 && over_budget()) break;
+    const std::size_t engine = engine_of_turn(turn, engines.size());
+    RunRecord& record = runs.runs[engine];
+    if (progress) progress(engine, record.repeats);
     const bool first_round = record.repeats == 0;
-    RunRecord measured = measure_engine(scene, is_a ? a : b, round_plan(plan, first_round, scene.steps));
+    RunRecord measured = measure_engine(scene, *engines[engine], round_plan(plan, first_round, scene.steps));
     if (measured.repeats == 0) {  // interrupt.h: a SIGINT stopped this round
       runs.interrupted = true;
       break;
@@ -58,6 +64,18 @@ InterleavedRuns measure_interleaved(const SceneSpec& scene, const EngineInfo& a,
       append_round(record, measured);
   }
   return runs;
+}
+
+InterleavedRuns measure_interleaved(const SceneSpec& scene, const EngineInfo& a, const EngineInfo& b,
+                                    const InterleavePlan& plan, const RoundProgressFn& progress) {
+  const EngineInfo* const engines[] = {&a, &b};
+  int turn = 0;
+  const TurnProgressFn each_turn = [&](std::size_t, int) {
+    if (progress) progress(turn, 2 * plan.rounds);
+    ++turn;
+  };
+  RoundRobinRuns runs = measure_round_robin(scene, engines, plan, each_turn);
+  return {std::move(runs.runs[0]), std::move(runs.runs[1]), runs.interrupted};
 }
 
 std::string variant_engine_name(std::string_view engine, Variant variant) {

@@ -1,22 +1,27 @@
-// Two variants of one engine timed on one scene in alternating rounds, A B B A A B B A ..., the
-// method behind `fx2d-bench ab`; and the naming that lets one result file hold both.
+// Engines timed on one scene in alternating rounds: two variants of one engine A B B A A B B A ...,
+// the method behind `fx2d-bench ab`; several engines in turn, forward then backward (A B C C B A
+// A B C ...), the method behind `fx2d-bench run` with more than one engine; and the naming that lets
+// one result file hold both variants.
 //
 // Why ABBA: on a shared machine the speed of everything drifts (other jobs, clock and thermal
 // state); a drift that is linear over four rounds costs A and B the same in each ABBA block, so
-// it cancels instead of landing on whichever variant ran later. Each round is one fresh instance
+// it cancels instead of landing on whichever variant ran later. Turning back at each end of the
+// list does the same for any number of engines. Each round is one fresh instance
 // timed over the scene's steps (runner.h's measure_engine with one repeat), so a round is exactly
 // what a repeat of `fx2d-bench run` is, and the rounds of a variant become its repeats.
 //
-// Invariants: the first round of each variant records accuracy and state hashes as a first repeat
+// Invariants: the first round of each engine records accuracy and state hashes as a first repeat
 // does; every later round's final state hash is checked against it (deterministic); the rounds
-// stop only when both variants have run the same number of rounds, unless a SIGINT
-// (interrupt.h) cuts them short.
+// stop only when every engine has run the same number of rounds, unless a SIGINT (interrupt.h)
+// cuts them short.
 #pragma once
 
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "common/results.h"
 #include "engines/engine.h"
@@ -50,6 +55,23 @@ using RoundProgressFn = std::function<void(int round, int total_rounds)>;
 // Times `a` and `b` on `scene` in ABBA rounds per `plan`. Engine failures propagate as thrown.
 InterleavedRuns measure_interleaved(const SceneSpec& scene, const EngineInfo& a, const EngineInfo& b,
                                     const InterleavePlan& plan, const RoundProgressFn& progress = {});
+
+struct RoundRobinRuns {
+  std::vector<RunRecord> runs;  // one per engine, in the order given; repeats = the rounds it ran
+  bool interrupted = false;     // a SIGINT cut the rounds short
+};
+
+// The engine that runs the `turn`-th single-engine round (0-based) among `engines`: forward through
+// the list, then back. For two engines, variant_of_round().
+std::size_t engine_of_turn(int turn, std::size_t engines);
+
+// Called before each single-engine round with the engine's index and its round (0-based).
+using TurnProgressFn = std::function<void(std::size_t engine, int round)>;
+
+// Times every one of `engines` (at least one) on `scene` for plan.rounds rounds each, in the order
+// engine_of_turn() gives, as measure_interleaved() does for two.
+RoundRobinRuns measure_round_robin(const SceneSpec& scene, std::span<const EngineInfo* const> engines,
+                                   const InterleavePlan& plan, const TurnProgressFn& progress = {});
 
 // "fx2d@A": the name a variant's runs carry in a result file.
 std::string variant_engine_name(std::string_view engine, Variant variant);

@@ -24,6 +24,7 @@
 
 #include "analysis/summary.h"
 #include "format/summary_format.h"
+#include "measure/interleave.h"
 #include "measure/runner.h"
 #include "stats/statistics.h"
 #include "storage/results_h5.h"
@@ -187,6 +188,57 @@ TEST(MeasureEngine, ProgressIsReportedForWarmupEachRepeatAndTheEnd) {
   EXPECT_EQ(reports[1].steps_done, 5);
   EXPECT_EQ(reports[2].repeat, 2);
   EXPECT_EQ(reports[3].steps_done, planned_steps(small_scene(), plan));
+}
+
+TEST(EngineRounds, VisitTheEnginesForwardThenBackward) {
+  std::string order;
+  for (int turn = 0; turn < 9; ++turn) order += static_cast<char>('A' + engine_of_turn(turn, 3));
+  EXPECT_EQ(order, "ABCCBAABC");
+  std::string alone;
+  for (int turn = 0; turn < 3; ++turn) alone += static_cast<char>('A' + engine_of_turn(turn, 1));
+  EXPECT_EQ(alone, "AAA");
+}
+
+// Several engines timed in rounds: each gets the record measure_engine gives it alone (samples,
+// accuracy, hashes: every repeat is the same trajectory), and each new instance is built in the
+// order of the rounds, so no engine's repeats all fall before another's.
+TEST(EngineRounds, EachEngineGetsTheRecordItWouldGetAloneInTurnOrder) {
+  const SceneSpec scene = small_scene();
+  RunPlan plan;
+  plan.repeats = 3;
+  plan.warmup_steps = 4;
+  std::string built;
+  std::vector<EngineInfo> logged;
+  for (const EngineInfo& engine : engine_registry()) {
+    if (!engine.unavailable.empty() || logged.size() == 2) continue;
+    EngineInfo copy = engine;
+    copy.make = [&built, make = engine.make, tag = static_cast<char>('A' + logged.size())] {
+      built += tag;
+      return make();
+    };
+    logged.push_back(copy);
+  }
+  ASSERT_EQ(logged.size(), 2u);
+  const EngineInfo* const engines[] = {&logged[0], &logged[1]};
+  const InterleavePlan rounds{plan.repeats, 0.0, plan.warmup_steps, plan.hash_every, plan.accuracy_every};
+  const RoundRobinRuns runs = measure_round_robin(scene, engines, rounds);
+  // A warm-up instance, then a timed one, in each engine's first round.
+  EXPECT_EQ(built, "AABBBAAB");
+  ASSERT_EQ(runs.runs.size(), 2u);
+  EXPECT_FALSE(runs.interrupted);
+  for (std::size_t e = 0; e < 2; ++e) {
+    const RunRecord alone = measure_engine(scene, logged[e], plan);
+    const RunRecord& interleaved = runs.runs[e];
+    EXPECT_EQ(interleaved.engine, alone.engine);
+    EXPECT_EQ(interleaved.repeats, 3);
+    EXPECT_EQ(interleaved.wall_ms.size(), alone.wall_ms.size());
+    EXPECT_EQ(interleaved.phase_ms.size(), alone.phase_ms.size());
+    EXPECT_EQ(interleaved.contacts, alone.contacts);
+    EXPECT_EQ(interleaved.state_hashes, alone.state_hashes);
+    EXPECT_EQ(interleaved.final_state_hash, alone.final_state_hash);
+    EXPECT_EQ(interleaved.accuracy.size(), alone.accuracy.size());
+    EXPECT_TRUE(interleaved.deterministic);
+  }
 }
 
 // Replaces every timing figure by a placeholder: they differ from run to run, the rest must not.
