@@ -94,13 +94,15 @@ std::vector<RunRecord> measure_engines(const SceneSpec& scene, std::span<const E
                                        const RunPlan& plan, ProgressBar& progress, long steps_before) {
   if (engines.size() == 1) return {measure_engine(scene, *engines[0], plan, progress.for_run(steps_before))};
   const InterleavePlan rounds{plan.repeats, 0.0, plan.warmup_steps, plan.hash_every, plan.accuracy_every};
+  std::vector<TimedCell> cells;
+  for (const EngineInfo* engine : engines) cells.push_back({&scene, engine});
   long steps_done = 0;
   const TurnProgressFn each_round = [&](std::size_t engine, int round) {
     const ProgressFn draw = progress.for_run(steps_before + steps_done);
     if (draw) draw({engines[engine]->name, scene.name, round + 1, plan.repeats, 0});
     steps_done += scene.steps + (round == 0 ? plan.warmup_steps : 0);
   };
-  RoundRobinRuns runs = measure_round_robin(scene, engines, rounds, each_round);
+  RoundRobinRuns runs = measure_round_robin(cells, rounds, each_round);
   return std::move(runs.runs);
 }
 

@@ -5,7 +5,7 @@
 // Reads top to bottom: the knob axes and options, the plan (each scene's grid per engine, from
 // analysis/sweep_grid.h), the measurement of every point of this shard (a scene reloaded with the
 // point's settings as --set overrides, so each run records the exact scene it ran and its
-// settings, then runner.h's measure_engine), the fronts, then the outputs (format/sweep_format.h:
+// settings; the points of one front timed in interleaved rounds, interleave.h), the fronts, then the outputs (format/sweep_format.h:
 // table, JSON `fx2d-bench.sweep/1`, HDF5 `/sweep` as in harness/RESULTS_FORMAT.md).
 //
 // Invariants: the scene's own setting of each engine is always measured, and added to the grid
@@ -20,6 +20,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <vector>
 
 #include "analysis/sweep_grid.h"
 #include "commands/cli_options.h"
@@ -28,6 +29,7 @@
 #include "common/number_text.h"
 #include "format/sweep_format.h"
 #include "measure/clocks.h"
+#include "measure/interleave.h"
 #include "measure/provenance.h"
 #include "measure/runner.h"
 #include "storage/h5_tables.h"
@@ -88,12 +90,12 @@ SceneSpec load_point(const SceneOptions& base_options, const std::string& scene,
   return options.load().front();
 }
 
-// Shows "point k of n" on stderr, redrawn in place, only when stderr is a terminal.
-void show_progress(std::size_t done, std::size_t total, const std::string& engine, const SceneSpec& scene,
-                   const GridPoint& point) {
+// Shows "point k of n, repeat r of m" on stderr, redrawn in place, only when stderr is a terminal.
+void show_progress(std::size_t point_index, std::size_t total, int round, int repeats, const std::string& engine,
+                   const SceneSpec& scene, const GridPoint& point) {
   if (isatty(STDERR_FILENO) != 1) return;
-  std::fprintf(stderr, "\r\x1b[Ksweep %zu/%zu: %s on %s, %s dt=%g", done + 1, total, engine.c_str(), scene.name.c_str(),
-               knobs_text(point.knobs).c_str(), point.dt);
+  std::fprintf(stderr, "\r\x1b[Ksweep %zu/%zu (repeat %d/%d): %s on %s, %s dt=%g", point_index + 1, total, round + 1,
+               repeats, engine.c_str(), scene.name.c_str(), knobs_text(point.knobs).c_str(), point.dt);
   std::fflush(stderr);
 }
 
@@ -140,6 +142,21 @@ WorkList work_list_of(const std::vector<PlannedScene>& plan, int repeats) {
   return work;
 }
 
+// The points of one engine's grid on one scene that this shard measures: mine[first, last).
+struct PointGroup {
+  std::size_t first, last;
+};
+
+std::vector<PointGroup> groups_of(const WorkList& work, const std::vector<std::size_t>& mine) {
+  std::vector<PointGroup> groups;
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    if (groups.empty() || work.items[mine[i]].pareto_group != work.items[mine[groups.back().first]].pareto_group)
+      groups.push_back({i, i});
+    groups.back().last = i + 1;
+  }
+  return groups;
+}
+
 Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
   const std::vector<PlannedScene> plan = plan_sweep(options);
   Sweep sweep;
@@ -147,20 +164,38 @@ Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
   sweep.work = work_list_of(plan, options.repeats);
   const std::vector<std::size_t> mine = items_of(sweep.shard, sweep.work.costs);
   sweep.results.provenance = collect_provenance(command_line, measure_counter_ghz());
-  for (std::size_t item : mine) {
-    const WorkItem& work = sweep.work.items[item];
-    const PlannedScene& scene = plan[work.scene];
-    const EngineGrid& grid = scene.grids[work.grid];
-    const GridPoint& point = grid.points[work.point];
-    const SceneSpec spec = load_point(options.scenes, scene.argument, scene.base, grid, point);
-    show_progress(sweep.points.size(), mine.size(), grid.engine->name, spec, point);
-    const RunPlan run_plan{options.repeats, 0, spec.steps, 10};
-    sweep.results.runs.push_back(measure_engine(spec, *grid.engine, run_plan));
-    sweep.results.scenes.push_back({spec.name, spec.hash, spec.resolved_json, spec.source_path,
-                                    metric_name(spec.primary_metric)});
-    sweep.points.push_back(figures_of(sweep.results.runs.back(), sweep.results.runs.size() - 1, spec, point));
-    sweep.points.back().pareto_group = work.pareto_group;
-    sweep.points.back().work_item = item;
+  // The points of a front are compared with each other, so they take their repeats in rounds
+  // (interleave.h): a drift of the machine's speed then moves them all alike.
+  for (const PointGroup group : groups_of(sweep.work, mine)) {
+    std::vector<SceneSpec> specs;
+    std::vector<TimedCell> cells;
+    specs.reserve(group.last - group.first);  // the cells point into it
+    for (std::size_t i = group.first; i < group.last; ++i) {
+      const WorkItem& work = sweep.work.items[mine[i]];
+      const PlannedScene& scene = plan[work.scene];
+      const EngineGrid& grid = scene.grids[work.grid];
+      specs.push_back(load_point(options.scenes, scene.argument, scene.base, grid, grid.points[work.point]));
+      cells.push_back({&specs.back(), grid.engine});
+    }
+    const InterleavePlan rounds{options.repeats, 0.0, 0, 0, 10};
+    const TurnProgressFn progress = [&](std::size_t cell, int round) {
+      const WorkItem& work = sweep.work.items[mine[group.first + cell]];
+      show_progress(group.first + cell, mine.size(), round, options.repeats, cells[cell].engine->name, specs[cell],
+                    plan[work.scene].grids[work.grid].points[work.point]);
+    };
+    RoundRobinRuns runs = measure_round_robin(cells, rounds, progress);
+    for (std::size_t cell = 0; cell < cells.size(); ++cell) {
+      const std::size_t item = mine[group.first + cell];
+      const WorkItem& work = sweep.work.items[item];
+      const SceneSpec& spec = specs[cell];
+      sweep.results.runs.push_back(std::move(runs.runs[cell]));
+      sweep.results.scenes.push_back({spec.name, spec.hash, spec.resolved_json, spec.source_path,
+                                      metric_name(spec.primary_metric)});
+      sweep.points.push_back(figures_of(sweep.results.runs.back(), sweep.results.runs.size() - 1, spec,
+                                        plan[work.scene].grids[work.grid].points[work.point]));
+      sweep.points.back().pareto_group = work.pareto_group;
+      sweep.points.back().work_item = item;
+    }
   }
   if (isatty(STDERR_FILENO) == 1) std::fputs("\r\x1b[K", stderr);
   place_on_fronts(sweep);

@@ -23,37 +23,38 @@ void append_round(RunRecord& record, const RunRecord& round) {
 // The first round of a variant samples accuracy and hashes along the way, as a run's first repeat
 // does; later rounds hash only their final state, to check determinism.
 RunPlan round_plan(const InterleavePlan& plan, bool first_round, int steps) {
-  if (first_round) return {1, plan.warmup_steps, plan.hash_every, plan.accuracy_every};
+  if (first_round) return {1, plan.warmup_steps, plan.hash_every > 0 ? plan.hash_every : steps, plan.accuracy_every};
   return {1, 0, steps, steps};
 }
 
 }  // namespace
 
-std::size_t engine_of_turn(int turn, std::size_t engines) {
-  const auto round = static_cast<std::size_t>(turn) / engines, place = static_cast<std::size_t>(turn) % engines;
-  return round % 2 == 0 ? place : engines - 1 - place;
+std::size_t cell_of_turn(int turn, std::size_t cells) {
+  const auto round = static_cast<std::size_t>(turn) / cells, place = static_cast<std::size_t>(turn) % cells;
+  return round % 2 == 0 ? place : cells - 1 - place;
 }
 
-Variant variant_of_round(int round) { return engine_of_turn(round, 2) == 0 ? Variant::a : Variant::b; }
+Variant variant_of_round(int round) { return cell_of_turn(round, 2) == 0 ? Variant::a : Variant::b; }
 
-RoundRobinRuns measure_round_robin(const SceneSpec& scene, std::span<const EngineInfo* const> engines,
-                                   const InterleavePlan& plan, const TurnProgressFn& progress) {
+RoundRobinRuns measure_round_robin(std::span<const TimedCell> cells, const InterleavePlan& plan,
+                                   const TurnProgressFn& progress) {
   using clock = std::chrono::steady_clock;
   const clock::time_point start = clock::now();
   const auto over_budget = [&] {
     return plan.time_budget_s > 0 && std::chrono::duration<double>(clock::now() - start).count() >= plan.time_budget_s;
   };
   RoundRobinRuns runs;
-  runs.runs.resize(engines.size());
-  const int turns = plan.rounds * static_cast<int>(engines.size());
+  runs.runs.resize(cells.size());
+  const int turns = plan.rounds * static_cast<int>(cells.size());
   for (int turn = 0; turn < turns; ++turn) {
-    const bool balanced = turn % static_cast<int>(engines.size()) == 0;  // every engine has run as often
+    const bool balanced = turn % static_cast<int>(cells.size()) == 0;  // every cell has run as often
     if (balanced && turn > 0 && over_budget()) break;
-    const std::size_t engine = engine_of_turn(turn, engines.size());
-    RunRecord& record = runs.runs[engine];
-    if (progress) progress(engine, record.repeats);
+    const std::size_t c = cell_of_turn(turn, cells.size());
+    const TimedCell& cell = cells[c];
+    RunRecord& record = runs.runs[c];
+    if (progress) progress(c, record.repeats);
     const bool first_round = record.repeats == 0;
-    RunRecord measured = measure_engine(scene, *engines[engine], round_plan(plan, first_round, scene.steps));
+    RunRecord measured = measure_engine(*cell.scene, *cell.engine, round_plan(plan, first_round, cell.scene->steps));
     if (measured.repeats == 0) {  // interrupt.h: a SIGINT stopped this round
       runs.interrupted = true;
       break;
@@ -68,13 +69,13 @@ RoundRobinRuns measure_round_robin(const SceneSpec& scene, std::span<const Engin
 
 InterleavedRuns measure_interleaved(const SceneSpec& scene, const EngineInfo& a, const EngineInfo& b,
                                     const InterleavePlan& plan, const RoundProgressFn& progress) {
-  const EngineInfo* const engines[] = {&a, &b};
+  const TimedCell cells[] = {{&scene, &a}, {&scene, &b}};
   int turn = 0;
   const TurnProgressFn each_turn = [&](std::size_t, int) {
     if (progress) progress(turn, 2 * plan.rounds);
     ++turn;
   };
-  RoundRobinRuns runs = measure_round_robin(scene, engines, plan, each_turn);
+  RoundRobinRuns runs = measure_round_robin(cells, plan, each_turn);
   return {std::move(runs.runs[0]), std::move(runs.runs[1]), runs.interrupted};
 }
 

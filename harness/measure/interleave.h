@@ -1,7 +1,7 @@
-// Engines timed on one scene in alternating rounds: two variants of one engine A B B A A B B A ...,
-// the method behind `fx2d-bench ab`; several engines in turn, forward then backward (A B C C B A
-// A B C ...), the method behind `fx2d-bench run` with more than one engine; and the naming that lets
-// one result file hold both variants.
+// Engines timed in alternating rounds: two variants of one engine A B B A A B B A ..., the method
+// behind `fx2d-bench ab`; several cells (an engine on a scene) in turn, forward then backward
+// (A B C C B A A B C ...), the method behind `fx2d-bench run` with more than one engine and behind
+// `fx2d-bench sweep`'s points; and the naming that lets one result file hold both variants.
 //
 // Why ABBA: on a shared machine the speed of everything drifts (other jobs, clock and thermal
 // state); a drift that is linear over four rounds costs A and B the same in each ABBA block, so
@@ -39,7 +39,7 @@ struct InterleavePlan {
   int rounds = 30;            // rounds per variant, >= 1
   double time_budget_s = 0;   // > 0: stop earlier, once both variants have run for this long
   int warmup_steps = 0;       // untimed steps on a discarded instance of each variant, first
-  int hash_every = 50;
+  int hash_every = 50;        // 0: the last step's state only, whatever a scene's step count
   int accuracy_every = 10;
 };
 
@@ -56,22 +56,29 @@ using RoundProgressFn = std::function<void(int round, int total_rounds)>;
 InterleavedRuns measure_interleaved(const SceneSpec& scene, const EngineInfo& a, const EngineInfo& b,
                                     const InterleavePlan& plan, const RoundProgressFn& progress = {});
 
+// One engine on one scene: what each round times once.
+struct TimedCell {
+  const SceneSpec* scene;
+  const EngineInfo* engine;
+};
+
 struct RoundRobinRuns {
-  std::vector<RunRecord> runs;  // one per engine, in the order given; repeats = the rounds it ran
+  std::vector<RunRecord> runs;  // one per cell, in the order given; repeats = the rounds it ran
   bool interrupted = false;     // a SIGINT cut the rounds short
 };
 
-// The engine that runs the `turn`-th single-engine round (0-based) among `engines`: forward through
-// the list, then back. For two engines, variant_of_round().
-std::size_t engine_of_turn(int turn, std::size_t engines);
+// The cell that runs the `turn`-th single round (0-based) among `cells`: forward through the list,
+// then back. For two cells, variant_of_round().
+std::size_t cell_of_turn(int turn, std::size_t cells);
 
-// Called before each single-engine round with the engine's index and its round (0-based).
-using TurnProgressFn = std::function<void(std::size_t engine, int round)>;
+// Called before each single round with the cell's index and its round (0-based).
+using TurnProgressFn = std::function<void(std::size_t cell, int round)>;
 
-// Times every one of `engines` (at least one) on `scene` for plan.rounds rounds each, in the order
-// engine_of_turn() gives, as measure_interleaved() does for two.
-RoundRobinRuns measure_round_robin(const SceneSpec& scene, std::span<const EngineInfo* const> engines,
-                                   const InterleavePlan& plan, const TurnProgressFn& progress = {});
+// Times every one of `cells` (at least one) for plan.rounds rounds each, in the order
+// cell_of_turn() gives, as measure_interleaved() does for two: `run`'s engines on a scene, `sweep`'s
+// points of one engine on one scene.
+RoundRobinRuns measure_round_robin(std::span<const TimedCell> cells, const InterleavePlan& plan,
+                                   const TurnProgressFn& progress = {});
 
 // "fx2d@A": the name a variant's runs carry in a result file.
 std::string variant_engine_name(std::string_view engine, Variant variant);

@@ -192,10 +192,10 @@ TEST(MeasureEngine, ProgressIsReportedForWarmupEachRepeatAndTheEnd) {
 
 TEST(EngineRounds, VisitTheEnginesForwardThenBackward) {
   std::string order;
-  for (int turn = 0; turn < 9; ++turn) order += static_cast<char>('A' + engine_of_turn(turn, 3));
+  for (int turn = 0; turn < 9; ++turn) order += static_cast<char>('A' + cell_of_turn(turn, 3));
   EXPECT_EQ(order, "ABCCBAABC");
   std::string alone;
-  for (int turn = 0; turn < 3; ++turn) alone += static_cast<char>('A' + engine_of_turn(turn, 1));
+  for (int turn = 0; turn < 3; ++turn) alone += static_cast<char>('A' + cell_of_turn(turn, 1));
   EXPECT_EQ(alone, "AAA");
 }
 
@@ -219,9 +219,9 @@ TEST(EngineRounds, EachEngineGetsTheRecordItWouldGetAloneInTurnOrder) {
     logged.push_back(copy);
   }
   ASSERT_EQ(logged.size(), 2u);
-  const EngineInfo* const engines[] = {&logged[0], &logged[1]};
+  const TimedCell cells[] = {{&scene, &logged[0]}, {&scene, &logged[1]}};
   const InterleavePlan rounds{plan.repeats, 0.0, plan.warmup_steps, plan.hash_every, plan.accuracy_every};
-  const RoundRobinRuns runs = measure_round_robin(scene, engines, rounds);
+  const RoundRobinRuns runs = measure_round_robin(cells, rounds);
   // A warm-up instance, then a timed one, in each engine's first round.
   EXPECT_EQ(built, "AABBBAAB");
   ASSERT_EQ(runs.runs.size(), 2u);
