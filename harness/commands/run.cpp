@@ -4,7 +4,7 @@
 // Reads top to bottom: the options, the checks made before anything is measured (an existing
 // --out without --force, valgrind missing for --counter), the measurement of every scene x engine
 // in registry order, the engines of one scene in interleaved rounds (runner.h holds the
-// measurement invariants, interleave.h the rounds'; with --counter instructions each
+// measurement invariants and interleave.h those of the rounds; with --counter instructions each
 // timed run is then counted in a child under callgrind, instruction_counter.h), then the output.
 // Nothing here prints to stderr but the progress bar, which is drawn only when stderr is a
 // terminal.

@@ -5,8 +5,9 @@
 // Reads top to bottom: the knob axes and options, the plan (each scene's grid per engine, from
 // analysis/sweep_grid.h), the measurement of every point of this shard (a scene reloaded with the
 // point's settings as --set overrides, so each run records the exact scene it ran and its
-// settings; the points of one front timed in interleaved rounds, interleave.h), the fronts, then the outputs (format/sweep_format.h:
-// table, JSON `fx2d-bench.sweep/1`, HDF5 `/sweep` as in harness/RESULTS_FORMAT.md).
+// settings; the points of one front timed in interleaved rounds, interleave.h), the fronts, then
+// the outputs (format/sweep_format.h: table, JSON `fx2d-bench.sweep/1`, HDF5 `/sweep` as in
+// harness/RESULTS_FORMAT.md).
 //
 // Invariants: the scene's own setting of each engine is always measured, and added to the grid
 // when the grid lacks it; every point of one scene simulates the same duration (a --dt point
@@ -147,6 +148,14 @@ struct PointGroup {
   std::size_t first, last;
 };
 
+const EngineGrid& grid_of_item(const std::vector<PlannedScene>& plan, const WorkItem& work) {
+  return plan[work.scene].grids[work.grid];
+}
+
+const GridPoint& point_of_item(const std::vector<PlannedScene>& plan, const WorkItem& work) {
+  return grid_of_item(plan, work).points[work.point];
+}
+
 std::vector<PointGroup> groups_of(const WorkList& work, const std::vector<std::size_t>& mine) {
   std::vector<PointGroup> groups;
   for (std::size_t i = 0; i < mine.size(); ++i) {
@@ -173,15 +182,13 @@ Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
     for (std::size_t i = group.first; i < group.last; ++i) {
       const WorkItem& work = sweep.work.items[mine[i]];
       const PlannedScene& scene = plan[work.scene];
-      const EngineGrid& grid = scene.grids[work.grid];
-      specs.push_back(load_point(options.scenes, scene.argument, scene.base, grid, grid.points[work.point]));
-      cells.push_back({&specs.back(), grid.engine});
+      specs.push_back(load_point(options.scenes, scene.argument, scene.base, grid_of_item(plan, work), point_of_item(plan, work)));
+      cells.push_back({&specs.back(), grid_of_item(plan, work).engine});
     }
     const InterleavePlan rounds{options.repeats, 0.0, 0, 0, 10};
     const TurnProgressFn progress = [&](std::size_t cell, int round) {
-      const WorkItem& work = sweep.work.items[mine[group.first + cell]];
       show_progress(group.first + cell, mine.size(), round, options.repeats, cells[cell].engine->name, specs[cell],
-                    plan[work.scene].grids[work.grid].points[work.point]);
+                    point_of_item(plan, sweep.work.items[mine[group.first + cell]]));
     };
     RoundRobinRuns runs = measure_round_robin(cells, rounds, progress);
     for (std::size_t cell = 0; cell < cells.size(); ++cell) {
@@ -191,8 +198,8 @@ Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
       sweep.results.runs.push_back(std::move(runs.runs[cell]));
       sweep.results.scenes.push_back({spec.name, spec.hash, spec.resolved_json, spec.source_path,
                                       metric_name(spec.primary_metric)});
-      sweep.points.push_back(figures_of(sweep.results.runs.back(), sweep.results.runs.size() - 1, spec,
-                                        plan[work.scene].grids[work.grid].points[work.point]));
+      sweep.points.push_back(
+          figures_of(sweep.results.runs.back(), sweep.results.runs.size() - 1, spec, point_of_item(plan, work)));
       sweep.points.back().pareto_group = work.pareto_group;
       sweep.points.back().work_item = item;
     }
