@@ -241,7 +241,8 @@ void run_command(const RunOptions& options, const std::string& command_line) {
       if (is_mine(cell++)) timed.push_back(engine);
     std::vector<RunRecord> runs = measure_engines(scene, timed, plan, progress, steps_before);
     // interrupt.h: only a SIGINT cuts a run short; every repeat measured before it is kept.
-    results.partial = std::ranges::any_of(runs, [&](const RunRecord& run) { return run.repeats < plan.repeats; });
+    results.partial =
+        std::ranges::any_of(runs, [&](const RunRecord& run) { return run.repeats < plan.repeats; });
     for (std::size_t e = 0; e < runs.size(); ++e) {
       RunRecord& run = runs[e];
       if (counter && !results.partial) {

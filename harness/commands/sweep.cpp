@@ -92,11 +92,12 @@ SceneSpec load_point(const SceneOptions& base_options, const std::string& scene,
 }
 
 // Shows "point k of n, repeat r of m" on stderr, redrawn in place, only when stderr is a terminal.
-void show_progress(std::size_t point_index, std::size_t total, int round, int repeats, const std::string& engine,
-                   const SceneSpec& scene, const GridPoint& point) {
+void show_progress(std::size_t point_index, std::size_t total, int round, int repeats,
+                   const std::string& engine, const SceneSpec& scene, const GridPoint& point) {
   if (isatty(STDERR_FILENO) != 1) return;
-  std::fprintf(stderr, "\r\x1b[Ksweep %zu/%zu (repeat %d/%d): %s on %s, %s dt=%g", point_index + 1, total, round + 1,
-               repeats, engine.c_str(), scene.name.c_str(), knobs_text(point.knobs).c_str(), point.dt);
+  std::fprintf(stderr, "\r\x1b[Ksweep %zu/%zu (repeat %d/%d): %s on %s, %s dt=%g", point_index + 1, total,
+               round + 1, repeats, engine.c_str(), scene.name.c_str(), knobs_text(point.knobs).c_str(),
+               point.dt);
   std::fflush(stderr);
 }
 
@@ -159,7 +160,8 @@ const GridPoint& point_of_item(const std::vector<PlannedScene>& plan, const Work
 std::vector<PointGroup> groups_of(const WorkList& work, const std::vector<std::size_t>& mine) {
   std::vector<PointGroup> groups;
   for (std::size_t i = 0; i < mine.size(); ++i) {
-    if (groups.empty() || work.items[mine[i]].pareto_group != work.items[mine[groups.back().first]].pareto_group)
+    if (groups.empty() ||
+        work.items[mine[i]].pareto_group != work.items[mine[groups.back().first]].pareto_group)
       groups.push_back({i, i});
     groups.back().last = i + 1;
   }
@@ -182,13 +184,14 @@ Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
     for (std::size_t i = group.first; i < group.last; ++i) {
       const WorkItem& work = sweep.work.items[mine[i]];
       const PlannedScene& scene = plan[work.scene];
-      specs.push_back(load_point(options.scenes, scene.argument, scene.base, grid_of_item(plan, work), point_of_item(plan, work)));
+      specs.push_back(load_point(options.scenes, scene.argument, scene.base, grid_of_item(plan, work),
+                                 point_of_item(plan, work)));
       cells.push_back({&specs.back(), grid_of_item(plan, work).engine});
     }
     const InterleavePlan rounds{options.repeats, 0.0, 0, 0, 10};
     const TurnProgressFn progress = [&](std::size_t cell, int round) {
-      show_progress(group.first + cell, mine.size(), round, options.repeats, cells[cell].engine->name, specs[cell],
-                    point_of_item(plan, sweep.work.items[mine[group.first + cell]]));
+      show_progress(group.first + cell, mine.size(), round, options.repeats, cells[cell].engine->name,
+                    specs[cell], point_of_item(plan, sweep.work.items[mine[group.first + cell]]));
     };
     RoundRobinRuns runs = measure_round_robin(cells, rounds, progress);
     for (std::size_t cell = 0; cell < cells.size(); ++cell) {
@@ -196,10 +199,10 @@ Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
       const WorkItem& work = sweep.work.items[item];
       const SceneSpec& spec = specs[cell];
       sweep.results.runs.push_back(std::move(runs.runs[cell]));
-      sweep.results.scenes.push_back({spec.name, spec.hash, spec.resolved_json, spec.source_path,
-                                      metric_name(spec.primary_metric)});
-      sweep.points.push_back(
-          figures_of(sweep.results.runs.back(), sweep.results.runs.size() - 1, spec, point_of_item(plan, work)));
+      sweep.results.scenes.push_back(
+          {spec.name, spec.hash, spec.resolved_json, spec.source_path, metric_name(spec.primary_metric)});
+      sweep.points.push_back(figures_of(sweep.results.runs.back(), sweep.results.runs.size() - 1, spec,
+                                        point_of_item(plan, work)));
       sweep.points.back().pareto_group = work.pareto_group;
       sweep.points.back().work_item = item;
     }

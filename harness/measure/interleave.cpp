@@ -23,7 +23,8 @@ void append_round(RunRecord& record, const RunRecord& round) {
 // The first round of a variant samples accuracy and hashes along the way, as a run's first repeat
 // does; later rounds hash only their final state, to check determinism.
 RunPlan round_plan(const InterleavePlan& plan, bool first_round, int steps) {
-  if (first_round) return {1, plan.warmup_steps, plan.hash_every > 0 ? plan.hash_every : steps, plan.accuracy_every};
+  if (first_round)
+    return {1, plan.warmup_steps, plan.hash_every > 0 ? plan.hash_every : steps, plan.accuracy_every};
   return {1, 0, steps, steps};
 }
 
@@ -54,7 +55,8 @@ RoundRobinRuns measure_round_robin(std::span<const TimedCell> cells, const Inter
     RunRecord& record = runs.runs[c];
     if (progress) progress(c, record.repeats);
     const bool first_round = record.repeats == 0;
-    RunRecord measured = measure_engine(*cell.scene, *cell.engine, round_plan(plan, first_round, cell.scene->steps));
+    RunRecord measured =
+        measure_engine(*cell.scene, *cell.engine, round_plan(plan, first_round, cell.scene->steps));
     if (measured.repeats == 0) {  // interrupt.h: a SIGINT stopped this round
       runs.interrupted = true;
       break;
