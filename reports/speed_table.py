@@ -5,7 +5,8 @@
         [--repeats N] [--steps N] [--cpu K] [--sleeping on,off]
 
 For every scene, size and sleeping setting, runs one `fx2d-bench run --engine fx2d,box2d --json`
-(both engines at their scene defaults, measured in the same process) and prints one Markdown row:
+(both engines at their scene defaults, measured in the same process in alternating rounds, so a
+drift of the machine lands on both) and prints one Markdown row:
 the median ms per step of each, their ratio Fx2D / Box2D, Fx2D's primary error (the scene's own
 metric: displacement for stacks, penetration otherwise), and where the cell stands against the
 targets the project set for it (issue 19: a ratio at most that of the fastest single-threaded 2D
