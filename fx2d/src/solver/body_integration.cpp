@@ -28,7 +28,7 @@ namespace {
 // The rare lanes the vectorised limit did not cover: faster than max_speed, overflowed or NaN.
 // One vector test for the whole group first, so the usual group, with none, skips the eight
 // scalar compare-and-branches. Returns whether it slowed any lane.
-[[gnu::always_inline]] inline bool slow_fast_lanes(float* vx, float* vy, const float* speed_squared, float max_speed) {
+FX2D_LANE_INLINE bool slow_fast_lanes(float* vx, float* vy, const float* speed_squared, float max_speed) {
   const float max_speed_squared = max_speed * max_speed;
   int fast_lanes = 0;
   // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
@@ -45,10 +45,10 @@ namespace {
 
 // v <- linear_factor * (v + h * acceleration), with its squared speed for slow_fast_lanes();
 // w <- angular_factor * w, limited.
-[[gnu::always_inline]] inline void accelerate_lanes(float* __restrict vx, float* __restrict vy, float* __restrict w,
-                                                    float* __restrict speed_squared, const float* __restrict ax,
-                                                    const float* __restrict ay, const float* __restrict linear_factor,
-                                                    const float* __restrict angular_factor, float h, float max_spin) {
+FX2D_LANE_INLINE void accelerate_lanes(float* __restrict vx, float* __restrict vy, float* __restrict w,
+                                       float* __restrict speed_squared, const float* __restrict ax,
+                                       const float* __restrict ay, const float* __restrict linear_factor,
+                                       const float* __restrict angular_factor, float h, float max_spin) {
   // check-vectorized(1, gcc): the lane loop below must be vectorised (ci/check-vectorized)
 #pragma GCC unroll 1  // unrolled first, the loop is left to the weaker straight-line vectoriser
   for (int lane = 0; lane < lane_count; ++lane) {
@@ -119,8 +119,8 @@ FX2D_LANE_KERNEL void integrate_position_groups(const std::uint32_t* body, std::
 
 // The group of eight at `body`, or, for the last `count` < 8 bodies of a block, those bodies with
 // the last repeated: a repeated lane computes and writes the same values as the lane it repeats.
-[[gnu::always_inline]] inline const std::uint32_t* whole_group(const std::uint32_t* body, std::size_t count,
-                                                                std::uint32_t* repeated) {
+FX2D_LANE_INLINE const std::uint32_t* whole_group(const std::uint32_t* body, std::size_t count,
+                                                  std::uint32_t* repeated) {
   if (count >= lane_count) return body;
   for (std::size_t lane = 0; lane < lane_count; ++lane) repeated[lane] = body[std::min(lane, count - 1)];
   return repeated;
@@ -143,8 +143,8 @@ struct RestColumns {
 // (accelerating at 0.05 m/s^2 or more over time_to_sleep) starts its rest anew. Settling bodies
 // only slow down, and a resting one's speed jitters far below that, so neither sleeps later.
 // Reads the limited velocities; every lane computes every branch and keeps the one it takes.
-[[gnu::always_inline]] inline void count_rest_lanes(const float* vx, const float* vy, const float* w, RestColumns& rest,
-                                                    const FxSceneSettings& settings) {
+FX2D_LANE_INLINE void count_rest_lanes(const float* vx, const float* vy, const float* w, RestColumns& rest,
+                                       const FxSceneSettings& settings) {
   const float linear_squared = settings.linear_sleep_speed * settings.linear_sleep_speed;
   const float angular_squared = settings.angular_sleep_speed * settings.angular_sleep_speed;
   const float sliding_gain = rest_speed_gain_share * settings.linear_sleep_speed;

@@ -11,20 +11,20 @@ namespace {
 
 // By value, not std::max's references, so a lane loop if-converts to selects instead of branching
 // between two loads. Same semantics as std::max/std::min (the first argument wins ties).
-[[gnu::always_inline]] inline float max_of(float a, float b) { return a < b ? b : a; }
-[[gnu::always_inline]] inline float min_of(float a, float b) { return b < a ? b : a; }
+FX2D_LANE_INLINE float max_of(float a, float b) { return a < b ? b : a; }
+FX2D_LANE_INLINE float min_of(float a, float b) { return b < a ? b : a; }
 
 // The relative velocity of a point's two anchors along a direction (dx, dy), given the anchors'
 // lever arms about it.
-[[gnu::always_inline]] inline float relative_speed(const LaneBody& a, const LaneBody& b, float dx, float dy, float arm_a,
-                                                   float arm_b) {
+FX2D_LANE_INLINE float relative_speed(const LaneBody& a, const LaneBody& b, float dx, float dy, float arm_a,
+                                      float arm_b) {
   return ((b.vx - a.vx) * dx + (b.vy - a.vy) * dy) + (b.w * arm_b - a.w * arm_a);
 }
 
 // An impulse `impulse` along a direction: A loses and B gains, per unit, the velocity (ax, ay),
 // (bx, by) and the spin sa, sb.
-[[gnu::always_inline]] inline void apply_impulse(LaneBody& a, LaneBody& b, float impulse, float ax, float ay, float sa,
-                                                 float bx, float by, float sb) {
+FX2D_LANE_INLINE void apply_impulse(LaneBody& a, LaneBody& b, float impulse, float ax, float ay, float sa,
+                                    float bx, float by, float sb) {
   a.vx -= impulse * ax;
   a.vy -= impulse * ay;
   a.w -= impulse * sa;
@@ -41,26 +41,26 @@ struct PointRows {
   float mass_ax, mass_ay, mass_bx, mass_by;
 };
 
-[[gnu::always_inline]] inline PointRows rows_of(const ContactBatch& __restrict k, int lane) {
+FX2D_LANE_INLINE PointRows rows_of(const ContactBatch& __restrict k, int lane) {
   return {k.normal_x[lane], k.normal_y[lane], k.mass_normal_ax[lane], k.mass_normal_ay[lane], k.mass_normal_bx[lane],
           k.mass_normal_by[lane]};
 }
 
-[[gnu::always_inline]] inline void apply_normal(const ContactBatch& __restrict k, const PointRows& r, int i, int lane,
-                                                LaneBody& a, LaneBody& b, float impulse) {
+FX2D_LANE_INLINE void apply_normal(const ContactBatch& __restrict k, const PointRows& r, int i, int lane,
+                                   LaneBody& a, LaneBody& b, float impulse) {
   apply_impulse(a, b, impulse, r.mass_ax, r.mass_ay, k.point[i].spin_normal_a[lane], r.mass_bx, r.mass_by,
                 k.point[i].spin_normal_b[lane]);
 }
 
-[[gnu::always_inline]] inline void apply_tangent(const ContactBatch& __restrict k, const PointRows& r, int i, int lane,
-                                                 LaneBody& a, LaneBody& b, float impulse) {
+FX2D_LANE_INLINE void apply_tangent(const ContactBatch& __restrict k, const PointRows& r, int i, int lane,
+                                    LaneBody& a, LaneBody& b, float impulse) {
   apply_impulse(a, b, impulse, r.mass_ay, -r.mass_ax, k.point[i].spin_tangent_a[lane], r.mass_by, -r.mass_bx,
                 k.point[i].spin_tangent_b[lane]);
 }
 
 template <int Points>
-[[gnu::always_inline]] inline void warm_start_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
-                                                   const ContactSolveParams&) {
+FX2D_LANE_INLINE void warm_start_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
+                                      const ContactSolveParams&) {
   const PointRows r = rows_of(k, lane);
   for (int i = 0; i < Points; ++i) {
     apply_normal(k, r, i, lane, a, b, k.point[i].normal_impulse[lane]);
@@ -78,8 +78,8 @@ template <int Points>
 // is the same Gauss-Seidel sweep, but between two rows lie one multiply and one add, not a
 // velocity update and a dot product.
 template <int Points, bool UseBias>
-[[gnu::always_inline]] inline void solve_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
-                                              const ContactSolveParams& p) {
+FX2D_LANE_INLINE void solve_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
+                                 const ContactSolveParams& p) {
   const PointRows r = rows_of(k, lane);
   float normal_speed[Points], tangent_speed[Points];
   for (int i = 0; i < Points; ++i) {
@@ -142,8 +142,8 @@ template <int Points, bool UseBias>
 // a column (the top of a column of n overlaps moves at n times the push), and a Gauss-Seidel pass
 // removes them one contact at a time: n passes before the column is back at rest.
 template <int Points>
-[[gnu::always_inline]] inline void push_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
-                                             const ContactSolveParams& p) {
+FX2D_LANE_INLINE void push_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
+                                const ContactSolveParams& p) {
   const PointRows r = rows_of(k, lane);
   float normal_speed[Points];
   for (int i = 0; i < Points; ++i) {
@@ -168,26 +168,26 @@ template <int Points>
 // Takes back what push_lane applied: exact in one sweep whatever the order, since each contact
 // subtracts its own recorded impulse.
 template <int Points>
-[[gnu::always_inline]] inline void take_back_push_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
-                                                       const ContactSolveParams&) {
+FX2D_LANE_INLINE void take_back_push_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
+                                          const ContactSolveParams&) {
   const PointRows r = rows_of(k, lane);
   for (int i = 0; i < Points; ++i) {
     apply_normal(k, r, i, lane, a, b, -k.point[i].push_impulse[lane]);
   }
 }
 
-[[gnu::always_inline]] inline LaneBody load(const FxBodyState& s) {
+FX2D_LANE_INLINE LaneBody load(const FxBodyState& s) {
   return {s.linear_velocity.x, s.linear_velocity.y, s.angular_velocity};
 }
 
-[[gnu::always_inline]] inline void store(FxBodyState& s, const LaneBody& body) {
+FX2D_LANE_INLINE void store(FxBodyState& s, const LaneBody& body) {
   s.linear_velocity = {body.vx, body.vy};
   s.angular_velocity = body.w;
 }
 
 // Lanes may share bodies: gather, solve and scatter one lane at a time, in lane order.
 template <LaneFn LaneSolve>
-[[gnu::always_inline]] inline void run_serial(ContactBatch& k, FxBodyState* states, const ContactSolveParams& p) {
+FX2D_LANE_INLINE void run_serial(ContactBatch& k, FxBodyState* states, const ContactSolveParams& p) {
   for (int lane = 0; lane < lane_count; ++lane) {
     LaneBody a = load(states[k.body_a[lane]]);
     LaneBody b = load(states[k.body_b[lane]]);
@@ -204,8 +204,8 @@ struct LaneVelocities {
   LaneColumn a_flags, b_flags;
 };
 
-[[gnu::always_inline]] inline void gather_velocities(const ContactBatch& k, const FxBodyState* __restrict states,
-                                                     LaneVelocities& v) {
+FX2D_LANE_INLINE void gather_velocities(const ContactBatch& k, const FxBodyState* __restrict states,
+                                        LaneVelocities& v) {
   LaneColumns a_side, b_side;
   gather_columns<velocity_row>(states, k.body_a, a_side);
   gather_columns<velocity_row>(states, k.body_b, b_side);
@@ -217,8 +217,8 @@ struct LaneVelocities {
 // Lanes that share a body (only static or kinematic ones, or the padding body) carry the same
 // unchanged values, so the order of the writes is moot; `Shared` leaves those bodies unwritten.
 template <bool Shared>
-[[gnu::always_inline]] inline void scatter_velocities(const ContactBatch& k, FxBodyState* __restrict states,
-                                                      const LaneVelocities& v) {
+FX2D_LANE_INLINE void scatter_velocities(const ContactBatch& k, FxBodyState* __restrict states,
+                                         const LaneVelocities& v) {
   LaneColumns a_side, b_side;
   from_lanes(v.avx, a_side.c0), from_lanes(v.avy, a_side.c1), from_lanes(v.aw, a_side.c2);
   from_lanes(v.bvx, b_side.c0), from_lanes(v.bvy, b_side.c1), from_lanes(v.bw, b_side.c2);
@@ -229,8 +229,8 @@ template <bool Shared>
 
 // Lane `lane` of one batch, on velocities gathered into `v`.
 template <LaneFn LaneSolve>
-[[gnu::always_inline]] inline void solve_lane_of(ContactBatch& __restrict k, LaneVelocities& __restrict v, int lane,
-                                                 const ContactSolveParams& p) {
+FX2D_LANE_INLINE void solve_lane_of(ContactBatch& __restrict k, LaneVelocities& __restrict v, int lane,
+                                    const ContactSolveParams& p) {
   LaneBody a{v.avx[lane], v.avy[lane], v.aw[lane]};
   LaneBody b{v.bvx[lane], v.bvy[lane], v.bw[lane]};
   LaneSolve(k, lane, a, b, p);
@@ -246,8 +246,8 @@ template <LaneFn LaneSolve>
 // 0.80x the time with one-point batches, 0.885x with two-point ones, on a core of its own;
 // 1.00-1.03x when the core's other hardware thread is busy and leaves no idle capacity to fill).
 template <LaneFn LaneSolve, int Count, bool Shared>
-[[gnu::always_inline]] inline void run_batched(ContactBatch* __restrict k, FxBodyState* __restrict states,
-                                               const ContactSolveParams& p) {
+FX2D_LANE_INLINE void run_batched(ContactBatch* __restrict k, FxBodyState* __restrict states,
+                                  const ContactSolveParams& p) {
   static_assert(Count == 1 || Count == 2);
   // Named variables, not an array indexed by batch: GCC keeps those in registers.
   LaneVelocities first, second;
@@ -274,7 +274,7 @@ struct LanePoses {
 // Every lane's normal turned as its NormalFrame says: with A, with B, or not at all. The last
 // multiplies by exactly one and zero, so a world-frame normal keeps its bits. A circle's anchor
 // turns as the normal does (ContactBatch::round_sides), so its rotation becomes the normal's.
-[[gnu::always_inline]] inline void turn_normals(const ContactBatch& __restrict k, LanePoses& __restrict q) {
+FX2D_LANE_INLINE void turn_normals(const ContactBatch& __restrict k, LanePoses& __restrict q) {
   constexpr auto with_a = static_cast<std::int32_t>(NormalFrame::body_a);
   constexpr auto with_b = static_cast<std::int32_t>(NormalFrame::body_b);
   // check-vectorized(2): the lane loop below, once per point count (not unrolled first, like the one
@@ -299,8 +299,8 @@ struct LanePoses {
 // start plus how far the anchors moved apart since then along the turned normal. Whether any
 // lane's point lies deeper than `slop`.
 template <int Point>
-[[gnu::always_inline]] inline bool update_point_separations(ContactBatch& __restrict k, const LanePoses& __restrict q,
-                                                            float slop) {
+FX2D_LANE_INLINE bool update_point_separations(ContactBatch& __restrict k, const LanePoses& __restrict q,
+                                               float slop) {
   int deep = 0;
   // check-vectorized(2): the lane loop below, for the first and the second point, must be vectorised
   // (not unrolled first: a fully unrolled loop is left to the weaker straight-line vectoriser)
@@ -327,8 +327,8 @@ template <int Point>
 // Every point of one batch. It reads poses and writes only the batch, so lanes never conflict,
 // even in an overflow batch.
 template <int Points>
-[[gnu::always_inline]] inline bool update_batch_separations(ContactBatch& __restrict k,
-                                                            const FxBodyState* __restrict states, float slop) {
+FX2D_LANE_INLINE bool update_batch_separations(ContactBatch& __restrict k,
+                                               const FxBodyState* __restrict states, float slop) {
   LaneColumns a, b;
   gather_columns<pose_row>(states, k.body_a, a);
   gather_columns<pose_row>(states, k.body_b, b);
@@ -344,8 +344,8 @@ template <int Points>
 // The batches of one run, in order; two at a time where lanes are independent, with one left over
 // for an odd count. A serial run (the overflow) is never swept `Shared`.
 template <LaneFn LaneSolve, bool Shared>
-[[gnu::always_inline]] inline void sweep_run(ContactBatch* batches, int count, FxBodyState* states,
-                                             const ContactSolveParams& params, bool serial) {
+FX2D_LANE_INLINE void sweep_run(ContactBatch* batches, int count, FxBodyState* states,
+                                const ContactSolveParams& params, bool serial) {
   int i = 0;
   if (serial) {
     for (; i < count; ++i) run_serial<LaneSolve>(batches[i], states, params);
@@ -358,9 +358,8 @@ template <LaneFn LaneSolve, bool Shared>
 // The batches of one run that `marked` flags, in order; two at a time where two marked batches
 // follow each other. Lanes of one colour are independent, so leaving a batch out changes no other.
 template <LaneFn LaneSolve, bool Shared>
-[[gnu::always_inline]] inline void sweep_marked_run(ContactBatch* batches, const std::uint8_t* marked, int count,
-                                                    FxBodyState* states, const ContactSolveParams& params,
-                                                    bool serial) {
+FX2D_LANE_INLINE void sweep_marked_run(ContactBatch* batches, const std::uint8_t* marked, int count,
+                                       FxBodyState* states, const ContactSolveParams& params, bool serial) {
   for (int i = 0; i < count;) {
     if (!marked[i]) {
       ++i;
@@ -377,9 +376,9 @@ template <LaneFn LaneSolve, bool Shared>
 
 // Every batch of every run, or with `marked` only the batches it flags.
 template <LaneFn OnePoint, LaneFn TwoPoints, bool Shared>
-[[gnu::always_inline]] inline void sweep(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
-                                         const ContactSolveParams& caller_params, bool scalar,
-                                         const std::uint8_t* marked = nullptr) {
+FX2D_LANE_INLINE void sweep(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
+                            const ContactSolveParams& caller_params, bool scalar,
+                            const std::uint8_t* marked = nullptr) {
   // A local copy, which no store to a batch or a body can change, so it is not re-read per batch.
   const ContactSolveParams params = caller_params;
   for (const BatchRun& run : runs) {
@@ -402,9 +401,9 @@ template <LaneFn OnePoint, LaneFn TwoPoints, bool Shared>
 
 // sweep(), writing back every body (on one thread) or, when `shared`, the movable ones alone.
 template <LaneFn OnePoint, LaneFn TwoPoints>
-[[gnu::always_inline]] inline void sweep_writing(bool shared, std::span<const BatchRun> runs, ContactBatch* batches,
-                                                 FxBodyState* states, const ContactSolveParams& params, bool scalar,
-                                                 const std::uint8_t* marked = nullptr) {
+FX2D_LANE_INLINE void sweep_writing(bool shared, std::span<const BatchRun> runs, ContactBatch* batches,
+                                    FxBodyState* states, const ContactSolveParams& params, bool scalar,
+                                    const std::uint8_t* marked = nullptr) {
   if (shared) {
     sweep<OnePoint, TwoPoints, true>(runs, batches, states, params, scalar, marked);
   } else {

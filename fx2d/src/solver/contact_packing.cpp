@@ -24,7 +24,7 @@ constexpr std::uint32_t batches_per_block = constraints_per_block / lane_count;
 constexpr std::uint32_t min_parallel_batch_builds = min_parallel_constraints / lane_count;
 
 // The mass a row's impulse acts on, from its effective inverse mass: zero when nothing can move.
-[[gnu::always_inline]] inline float mass_of(float inverse_mass) {
+FX2D_LANE_INLINE float mass_of(float inverse_mass) {
   return inverse_mass > 0.0f ? 1.0f / inverse_mass : 0.0f;
 }
 
@@ -78,7 +78,7 @@ void gather_lane(ContactBatch& k, LaneInputs& in, int lane, const ConstraintSour
 
 // Zeroes the lanes from `count` on: padding lanes, whose sims gather_bodies() read from lane 0's
 // body, must bring zeros (derive_points).
-[[gnu::always_inline]] inline void clear_padding(LaneColumns& c, int count) {
+FX2D_LANE_INLINE void clear_padding(LaneColumns& c, int count) {
   using LaneMask = std::int32_t __attribute__((vector_size(32)));
   const LaneMask lane = {0, 1, 2, 3, 4, 5, 6, 7};
   const LaneMask keep = lane < count;
@@ -108,8 +108,8 @@ struct SideInputs {
 // One side's bodies (`batch_body`, `count` of them; lane 0's stands in for the padding body, which
 // has no sim) as rows of their sims turned into columns: three row gathers instead of eleven
 // single-float copies per lane.
-[[gnu::always_inline]] inline void gather_side(const BodySim* __restrict sims, const std::uint32_t* batch_body,
-                                               int count, const SideInputs& side) {
+FX2D_LANE_INLINE void gather_side(const BodySim* __restrict sims, const std::uint32_t* batch_body, int count,
+                                  const SideInputs& side) {
   std::uint32_t body[lane_count];
   for (int lane = 0; lane < lane_count; ++lane) body[lane] = batch_body[lane < count ? lane : 0];
   LaneColumns place, turn, velocity;
@@ -149,8 +149,7 @@ FX2D_LANE_KERNEL void gather_bodies(ContactBatch& __restrict k, LaneInputs& __re
 // friction that applies (static below sticking_speed). The operations are those of the vector
 // helpers in Math.h, in their order, so every lane gets the bits a scalar version would.
 template <int Points>
-[[gnu::always_inline]] inline void derive_points(ContactBatch& __restrict k,
-                                                  const LaneInputs& __restrict in) {
+FX2D_LANE_INLINE void derive_points(ContactBatch& __restrict k, const LaneInputs& __restrict in) {
   // check-vectorized(2): the lane loop below, for one and two points, must be vectorised. Padding
   // lanes, whose inputs are all zero, come out zero.
   for (int lane = 0; lane < lane_count; ++lane) {
@@ -201,7 +200,7 @@ template <int Points>
 // (m_a + m_b) (d_s . d_r) + arm_a(s) spin_a(r) + arm_b(s) spin_b(r): normal and tangent are
 // perpendicular, so the mass term appears only between rows of one direction.
 template <int Points>
-[[gnu::always_inline]] inline void derive_rows(ContactBatch& __restrict k) {
+FX2D_LANE_INLINE void derive_rows(ContactBatch& __restrict k) {
   // check-vectorized(2): the lane loop below, for one and two points, must be vectorised. Lanes
   // are independent and padding lanes, all zero, come out zero.
   for (int lane = 0; lane < lane_count; ++lane) {

@@ -24,13 +24,24 @@ inline constexpr int lane_count = 8;
 // a second time for AVX2 and the loader picks the version (an ifunc), so a portable binary still
 // gets eight-wide lanes. The result is the same to the bit: AVX2 brings no fused multiply-add
 // (that is the separate FMA extension), and lanes are independent. Every helper a kernel calls is
-// always_inline, so each version holds its own copy. Ifuncs are an ELF feature: a Windows (PE)
-// build keeps the baseline version alone, and so does a ThreadSanitizer build (FX2D_TSAN): the
-// loader runs the resolver before the sanitizer is set up, and its instrumented entry crashes.
-#if defined(__x86_64__) && !defined(__AVX2__) && defined(__ELF__) && !FX2D_TSAN
+// FX2D_LANE_INLINE, so each version holds its own copy. Ifuncs are an ELF feature: a Windows (PE)
+// build keeps the baseline version alone. So does an instrumented build (FX2D_INSTRUMENTED:
+// sanitizers, fuzzing): under ThreadSanitizer the loader runs the resolver before the sanitizer is
+// set up, and its instrumented entry crashes.
+#if defined(__x86_64__) && !defined(__AVX2__) && defined(__ELF__) && !FX2D_INSTRUMENTED
 #define FX2D_LANE_KERNEL __attribute__((target_clones("avx2", "default")))
 #else
 #define FX2D_LANE_KERNEL
+#endif
+
+// The helpers of the lane kernels are inlined whole, so that each kernel is one loop the
+// vectoriser sees entire. Instrumented builds leave inlining to the compiler: forced, it made
+// functions that took minutes to instrument (contact_batch.cpp under Clang's fuzzing flags: 411 s
+// with both versions, 4 s with neither). Inlining moves no result: contraction is off.
+#if FX2D_INSTRUMENTED
+#define FX2D_LANE_INLINE inline
+#else
+#define FX2D_LANE_INLINE [[gnu::always_inline]] inline
 #endif
 
 using LaneRow = float __attribute__((vector_size(16)));
@@ -65,7 +76,7 @@ struct LaneColumns {
 
 // Row `Row` (a byte offset) of a body's record: an FxBodyState, or any record with 16-byte rows.
 template <std::size_t Row, typename Record>
-[[gnu::always_inline]] inline LaneRow load_row(const Record& record) {
+FX2D_LANE_INLINE LaneRow load_row(const Record& record) {
   LaneRow row;
   std::memcpy(&row, reinterpret_cast<const unsigned char*>(&record) + Row, sizeof row);
   return row;
@@ -77,8 +88,8 @@ template <std::size_t Row, typename Record>
 // Written out, not in helper functions: a 32-byte vector passed by value changes the ABI between
 // the AVX2 and default clones, and so does `c` returned instead of filled.
 template <std::size_t Row, typename Record>
-[[gnu::always_inline]] inline void gather_columns(const Record* __restrict states, const std::uint32_t* body,
-                                                  LaneColumns& c) {
+FX2D_LANE_INLINE void gather_columns(const Record* __restrict states, const std::uint32_t* body,
+                                     LaneColumns& c) {
   LaneColumn r[4];
   for (int i = 0; i < 4; ++i) {
     r[i] = __builtin_shufflevector(load_row<Row>(states[body[i]]), load_row<Row>(states[body[i + 4]]), 0, 1, 2, 3, 4,
@@ -95,7 +106,7 @@ template <std::size_t Row, typename Record>
 }
 
 template <std::size_t Row, typename Record>
-[[gnu::always_inline]] inline void store_row(Record& record, const unsigned char* row) {
+FX2D_LANE_INLINE void store_row(Record& record, const unsigned char* row) {
   std::memcpy(reinterpret_cast<unsigned char*>(&record) + Row, row, sizeof(LaneRow));
 }
 
@@ -104,7 +115,7 @@ template <std::size_t Row, typename Record>
 inline constexpr std::uint32_t movable_flag = 1;
 
 // Whether a velocity row (vx, vy, w, flags), as bytes, belongs to a body with movable_flag.
-[[gnu::always_inline]] inline bool is_movable_row(const unsigned char* row) {
+FX2D_LANE_INLINE bool is_movable_row(const unsigned char* row) {
   std::uint32_t flags;
   std::memcpy(&flags, row + offsetof(FxBodyState, flags), sizeof flags);
   return (flags & movable_flag) != 0;
@@ -116,8 +127,8 @@ inline constexpr std::uint32_t movable_flag = 1;
 // rows of bodies without movable_flag, which those shared lanes carry unchanged, are not written
 // at all: other threads may be reading or writing those same bodies at once.
 template <std::size_t Row, bool MovableOnly = false, typename Record>
-[[gnu::always_inline]] inline void scatter_columns(Record* __restrict states, const std::uint32_t* body,
-                                                   const LaneColumns& c) {
+FX2D_LANE_INLINE void scatter_columns(Record* __restrict states, const std::uint32_t* body,
+                                      const LaneColumns& c) {
   static_assert(!MovableOnly || (Row == velocity_row && std::is_same_v<Record, FxBodyState>),
                 "only a state's velocity row carries the flags");
   // The same two rounds of in-half interleaving, which undo each other.
@@ -141,7 +152,11 @@ template <std::size_t Row, bool MovableOnly = false, typename Record>
 }
 
 // A column's lanes as a plain array, for loops the compiler vectorises, and back.
-[[gnu::always_inline]] inline void to_lanes(const LaneColumn& column, float* lanes) { std::memcpy(lanes, &column, sizeof column); }
-[[gnu::always_inline]] inline void from_lanes(const float* lanes, LaneColumn& column) { std::memcpy(&column, lanes, sizeof column); }
+FX2D_LANE_INLINE void to_lanes(const LaneColumn& column, float* lanes) {
+  std::memcpy(lanes, &column, sizeof column);
+}
+FX2D_LANE_INLINE void from_lanes(const float* lanes, LaneColumn& column) {
+  std::memcpy(&column, lanes, sizeof column);
+}
 
 }  // namespace fx2d::detail
