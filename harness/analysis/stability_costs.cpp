@@ -28,7 +28,7 @@ struct PairCost {
   std::optional<double> last_pass;  // none: the search failed at its start
 };
 
-constexpr PairCost measured[] = {
+constexpr PairCost measured_pairs[] = {
     {"card_house", "fx2d", 0.01, 0.2421875},
     {"card_house", "box2d", 0.01, 0.453125},
     {"card_house", "ode", 0.03, 0.75},
@@ -95,8 +95,8 @@ constexpr BodyPower body_powers[] = {{"fx2d", 1.3}, {"box2d", 1.1}, {"ode", 1.4}
 constexpr double early_stop_share = 0.1;
 
 const PairCost* measured_pair(const std::string& test, const std::string& engine) {
-  const auto found = std::ranges::find_if(measured, [&](const PairCost& pair) { return pair.test == test && pair.engine == engine; });
-  return found == std::end(measured) ? nullptr : found;
+  const auto found = std::ranges::find_if(measured_pairs, [&](const PairCost& pair) { return pair.test == test && pair.engine == engine; });
+  return found == std::end(measured_pairs) ? nullptr : found;
 }
 
 }  // namespace
