@@ -1,16 +1,17 @@
 # The shared body of ci/cross-aarch64 and ci/cross-mingw, which source this file and call
-#   cross_build_and_test NAME TOOLCHAIN NOT_RUNNABLE ARGUMENT [CMAKE_ARGUMENTS...]
+#   cross_build_and_test NAME TOOLCHAIN NOT_RUNNABLE QUICK_SKIP ARGUMENT [CMAKE_ARGUMENTS...]
 # It builds GoogleTest for the target from Debian's sources (/usr/src/googletest) inside the build
 # directory, which keeps the host's dpkg free of a foreign architecture; configures Fx2D with
 # TOOLCHAIN, FX2D_HARNESS_PORTABLE_ONLY and CMAKE_ARGUMENTS; builds it and runs its tests under the
 # toolchain's emulator, all but those matching NOT_RUNNABLE (a ctest regular expression).
 # ARGUMENT is the calling script's own: empty for every engine test and every portable harness
-# test, --quick for the engine tests and the golden test only (what .ci/run can afford).
+# test, --quick for the engine tests and the golden test only (what .ci/run can afford), less
+# those matching QUICK_SKIP (a ctest regular expression, or empty).
 # Environment: FX2D_CROSS_BUILD_DIR (default build/NAME), FX2D_JOBS (default nproc);
 # CMake reads CMAKE_CXX_COMPILER_LAUNCHER (e.g. ccache) from the environment itself.
 cross_build_and_test() {
-  local name=$1 toolchain=$2 not_runnable=$3 argument=$4
-  shift 4
+  local name=$1 toolchain=$2 not_runnable=$3 quick_skip=$4 argument=$5
+  shift 5
   local quick=false
   case $argument in
     "") ;;
@@ -45,7 +46,7 @@ cross_build_and_test() {
     cmake --build "$build/fx2d" -j "$jobs"
     cmake --build "$build" -j "$jobs" --target fx2d_golden_test
     # Only the tests of what was built: the others are registered as <target>_NOT_BUILT.
-    ctest --test-dir "$build" -j "$jobs" --output-on-failure --timeout 600 -E "$not_runnable|_NOT_BUILT"
+    ctest --test-dir "$build" -j "$jobs" --output-on-failure --timeout 600 -E "$not_runnable|_NOT_BUILT${quick_skip:+|$quick_skip}"
   else
     cmake --build "$build" -j "$jobs"
     ctest --test-dir "$build" -j "$jobs" --output-on-failure --timeout 600 -E "$not_runnable"
