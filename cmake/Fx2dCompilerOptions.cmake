@@ -30,13 +30,11 @@ endif()
 if(FX2D_TSAN)
   set(fx2d_sanitize_flags -fsanitize=thread -fno-omit-frame-pointer)
   add_compile_options(${fx2d_sanitize_flags})
-  add_compile_definitions(FX2D_INSTRUMENTED=1)
   add_link_options(${fx2d_sanitize_flags})
 endif()
 if(FX2D_SANITIZE)
   set(fx2d_sanitize_flags -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
   add_compile_options(${fx2d_sanitize_flags})
-  add_compile_definitions(FX2D_INSTRUMENTED=1)
   add_link_options(${fx2d_sanitize_flags})
   # Under ASan instrumentation GCC 12 reports -Wmaybe-uninitialized inside libstdc++'s <regex>
   # (std::function moves in regex_automaton.h); the Release build keeps the warning as an error.

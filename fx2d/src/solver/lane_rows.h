@@ -37,7 +37,8 @@ inline constexpr int lane_count = 8;
 // The helpers of the lane kernels are inlined whole, so that each kernel is one loop the
 // vectoriser sees entire. Instrumented builds leave inlining to the compiler: forced, it made
 // functions that took minutes to instrument (contact_batch.cpp under Clang's fuzzing flags: 411 s
-// with both versions, 4 s with neither). Inlining moves no result: contraction is off.
+// with two versions and forced inlining, 4 s with one and none). Inlining moves no result:
+// contraction is off.
 #if FX2D_INSTRUMENTED
 #define FX2D_LANE_INLINE inline
 #else
