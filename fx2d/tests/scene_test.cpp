@@ -150,6 +150,12 @@ TEST(Validation, SceneSettingsNameTheBadField) {
   s = {};
   s.rest_schedule_time = -1.0f;
   EXPECT_NE(error_of([&] { FxScene scene(s); }).find("rest_schedule_time"), std::string::npos);
+  s = {};
+  s.shallow_schedule_depth = -1;
+  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("shallow_schedule_depth"), std::string::npos);
+  s = {};
+  s.shallow_schedule_speed = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("shallow_schedule_speed"), std::string::npos);
 }
 
 TEST(Validation, EntityDefinitionsNameTheBadField) {

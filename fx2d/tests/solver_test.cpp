@@ -406,6 +406,7 @@ struct RestingColumn {
     FxSceneSettings settings;
     settings.sleeping = false;
     settings.rest_schedule = rest_schedule;
+    settings.shallow_schedule = false;  // the rest schedule alone (ShallowSchedule tests the other)
     return settings;
   }
   FxScene scene;
@@ -479,6 +480,106 @@ TEST(RestSchedule, AKickedBoxGivesTheNextStepTheFullPassesUntilItRestsAgain) {
   EXPECT_TRUE(took_rest_schedule(column.scene));
   EXPECT_GT(full_steps, 24);  // the flight alone, and rest_schedule_time after it
   EXPECT_NEAR(column.boxes[9]->position().y, 9.5f, 5e-3f);
+}
+
+// The shallow schedule alone: never at rest for long enough to count (rest_schedule off), no sleep.
+FxSceneSettings shallow_only() {
+  FxSceneSettings settings;
+  settings.sleeping = false;
+  settings.rest_schedule = false;
+  return settings;
+}
+
+bool took_full_schedule(const FxScene& scene) {
+  return scene.profile().velocity_passes == scene.settings().velocity_passes &&
+         scene.profile().relax_passes == scene.settings().relax_passes;
+}
+
+// Steps `scene` `steps` times and counts the steps that took the full schedule.
+int full_steps_of(FxScene& scene, int steps) {
+  int full = 0;
+  for (int step = 0; step < steps; ++step) {
+    scene.step();
+    full += took_full_schedule(scene) ? 1 : 0;
+  }
+  return full;
+}
+
+TEST(ShallowSchedule, AColumnAsTallAsTheDepthTakesItAndOneBoxTallerDoesNot) {
+  // A box on the ground stands on a chain of one body, the top of a column of n on one of n.
+  const int depth = FxSceneSettings{}.shallow_schedule_depth;
+  for (const int height : {depth, depth + 1}) {
+    FxScene scene(shallow_only());
+    add_ground(scene);
+    for (int i = 0; i < height; ++i) add_box(scene, {0.0f, 0.5f + static_cast<float>(i)});
+    const int full = full_steps_of(scene, 60);
+    if (height == depth) {
+      EXPECT_EQ(full, 0) << "a column of " << height;
+    } else {
+      EXPECT_EQ(full, 60) << "a column of " << height;
+    }
+  }
+}
+
+TEST(ShallowSchedule, ABoxLandingFastTakesTheFullPassesAndTheColumnStandsAsOnThem) {
+  // A box dropped from 3 m above a column of five lands at 7.7 m/s, faster than
+  // shallow_schedule_speed (3 m/s): the steps in which it closes on the column are solved in full,
+  // the flight and the settling after it lightly. The column ends standing as the full schedule
+  // leaves it.
+  FxSceneSettings shallow = shallow_only();
+  FxSceneSettings full_settings = shallow;
+  full_settings.shallow_schedule = false;
+  FxScene light(shallow), full(full_settings);
+  std::vector<std::shared_ptr<FxEntity>> light_boxes, full_boxes;
+  for (auto [scene, boxes] : {std::pair{&light, &light_boxes}, std::pair{&full, &full_boxes}}) {
+    add_ground(*scene);
+    for (int i = 0; i < 5; ++i) boxes->push_back(add_box(*scene, {0.0f, 0.5f + static_cast<float>(i)}));
+    boxes->push_back(add_box(*scene, {0.0f, 8.5f}));
+  }
+  int full_steps = 0;
+  for (int step = 0; step < 180; ++step) {
+    light.step();
+    full.step();
+    full_steps += took_full_schedule(light) ? 1 : 0;
+    EXPECT_TRUE(took_full_schedule(full));
+  }
+  EXPECT_GE(full_steps, 1);
+  EXPECT_LE(full_steps, 10);
+  for (std::size_t i = 0; i < light_boxes.size(); ++i) {
+    // The impact shifts either column sideways by about a centimetre (1.1 cm on the full schedule).
+    EXPECT_LT(std::fabs(light_boxes[i]->position().x), 0.02f) << "box " << i;
+    EXPECT_NEAR(light_boxes[i]->position().y, full_boxes[i]->position().y, 1e-3f) << "box " << i;
+    EXPECT_NEAR(light_boxes[i]->position().y, 0.5f + static_cast<float>(i), 5e-3f) << "box " << i;
+  }
+}
+
+TEST(ShallowSchedule, JointsAreLinksOfAChain) {
+  // A chain of pinned links hanging from a static anchor: each link is held by the one above it.
+  const int depth = FxSceneSettings{}.shallow_schedule_depth;
+  for (const int links : {depth, depth + 1}) {
+    FxSceneSettings settings = shallow_only();
+    settings.gravity = {};  // hanging still: no link closes on anything
+    FxScene scene(settings);
+    FxEntityDef anchor;
+    anchor.type = FxBodyType::static_body;
+    anchor.shape = FxShape::circle(0.1f);
+    std::shared_ptr<FxEntity> previous = scene.create_entity(anchor);
+    for (int i = 0; i < links; ++i) {
+      const auto link = add_circle(scene, {0.0f, -0.5f - static_cast<float>(i)}, 0.1f);
+      scene.add_constraint(
+          std::make_shared<FxRevoluteJoint>(previous, link, FxVec2f{0.0f, -static_cast<float>(i)}));
+      previous = link;
+    }
+    const int full = full_steps_of(scene, 10);
+    EXPECT_EQ(full, links > depth ? 10 : 0) << links << " links";
+  }
+}
+
+TEST(ShallowSchedule, AColumnInFreeFallStandsOnNothing) {
+  // Forty boxes touching in a column, falling together: no chain reaches a support, so none counts.
+  FxScene scene(shallow_only());
+  for (int i = 0; i < 40; ++i) add_box(scene, {0.0f, 100.0f + static_cast<float>(i)});
+  EXPECT_EQ(full_steps_of(scene, 30), 0);
 }
 
 }  // namespace

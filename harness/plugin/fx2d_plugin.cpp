@@ -105,7 +105,17 @@ std::shared_ptr<fx2d::FxConstraint> make_joint(const std::vector<std::shared_ptr
 }
 
 // The knobs, in the order create() receives their values; each default is this revision's own.
-enum Knob { substeps, velocity_passes, sleeping, relax_passes, max_push_speed, workers, rest_schedule, knob_count };
+enum Knob {
+  substeps,
+  velocity_passes,
+  sleeping,
+  relax_passes,
+  max_push_speed,
+  workers,
+  rest_schedule,
+  shallow_schedule,
+  knob_count
+};
 
 const fx2d::FxSceneSettings engine_defaults{};
 
@@ -126,20 +136,26 @@ void set_workers(Settings& settings, int workers) {
   if constexpr (requires { settings.workers; }) settings.workers = workers;
 }
 
-// Revisions from before the rest schedule take every step's passes from the settings.
-template <class Settings>
-bool default_rest_schedule(const Settings& settings) {
-  if constexpr (requires { settings.rest_schedule; }) {
-    return settings.rest_schedule;
-  } else {
-    return false;
+// A switch of FxSceneSettings that older revisions lack, where `before` is what they did:
+// default_<name>() reads this revision's default, set_<name>() sets it where it exists.
+#define FX2D_BENCH_OPTIONAL_SWITCH(name, before)                   \
+  template <class Settings>                                        \
+  bool default_##name(const Settings& settings) {                  \
+    if constexpr (requires { settings.name; }) {                   \
+      return settings.name;                                        \
+    } else {                                                       \
+      return before;                                               \
+    }                                                              \
+  }                                                                \
+  template <class Settings>                                        \
+  void set_##name(Settings& settings, bool on) {                   \
+    if constexpr (requires { settings.name; }) settings.name = on; \
   }
-}
 
-template <class Settings>
-void set_rest_schedule(Settings& settings, bool on) {
-  if constexpr (requires { settings.rest_schedule; }) settings.rest_schedule = on;
-}
+// Revisions from before the rest schedule take every step's passes from the settings, and those
+// from before the shallow schedule every step's that is not at rest.
+FX2D_BENCH_OPTIONAL_SWITCH(rest_schedule, false)
+FX2D_BENCH_OPTIONAL_SWITCH(shallow_schedule, false)
 
 const Fx2dBenchKnob knobs[knob_count] = {
     {"substeps", FX2D_BENCH_KNOB_INTEGER, 1, 1000, static_cast<double>(engine_defaults.substeps),
@@ -156,6 +172,8 @@ const Fx2dBenchKnob knobs[knob_count] = {
      "threads a step may use; the results are the same on any number"},
     {"rest_schedule", FX2D_BENCH_KNOB_BOOLEAN, 0, 1, default_rest_schedule(engine_defaults) ? 1.0 : 0.0,
      "one soft and one rigid pass per substep while every awake body rests"},
+    {"shallow_schedule", FX2D_BENCH_KNOB_BOOLEAN, 0, 1, default_shallow_schedule(engine_defaults) ? 1.0 : 0.0,
+     "one soft and one rigid pass per substep while no contact closes fast and no support chain is deep"},
 };
 
 // Revisions from before FxSceneSettings::max_linear_speed accept any speed.
@@ -180,6 +198,7 @@ fx2d::FxSceneSettings scene_settings(const Fx2dBenchScene& scene) {
   settings.max_push_speed = static_cast<float>(knob[max_push_speed]);
   set_workers(settings, static_cast<int>(knob[workers]));
   set_rest_schedule(settings, knob[rest_schedule] != 0.0);
+  set_shallow_schedule(settings, knob[shallow_schedule] != 0.0);
   return settings;
 }
 

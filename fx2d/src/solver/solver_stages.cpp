@@ -73,6 +73,18 @@ bool keeps_rest(const BodyRecord& record, const BodySim& sim, const FxSceneSetti
          w * w < angular * angular;
 }
 
+// Whether the step is calm and shallow (FxSceneSettings::shallow_schedule): the closing speeds
+// first, as they cost one read per contact and rule out a step of impacts before any chain is
+// followed.
+bool takes_shallow_schedule(const FxSceneSettings& settings, SolverData& solver, const Bodies& bodies,
+                            const ContactCache& contacts, const Constraints& constraints) {
+  const std::span<const ConstraintSource> sources = solver.contact_solver.sources();
+  return settings.shallow_schedule &&
+         fastest_closing(sources, contacts, bodies) <= settings.shallow_schedule_speed &&
+         solver.support_chains.all_within(sources, constraints, solver.states,
+                                          settings.shallow_schedule_depth);
+}
+
 }  // namespace
 
 void SolverData::reserve(std::size_t bodies) {
@@ -81,9 +93,11 @@ void SolverData::reserve(std::size_t bodies) {
   contact_solver.reserve(4 * bodies);
   contact_graph.reserve(4 * bodies, bodies + 1);
   contact_batches.reserve(4 * bodies);
+  support_chains.reserve(bodies + 1, 4 * bodies);
 }
 
-void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts) {
+void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& bodies,
+                    const ContactCache& contacts, const Constraints& constraints) {
   // Gather the hot state of every awake body; sleeping and static ones keep zero velocity and are
   // never written by a constraint (a touching constraint always has its bodies awake). Every state
   // is cleared in one fill, which the compiler turns into wide stores, before the loop that skips
@@ -120,8 +134,10 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
                             1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping));
   }
   integration.finish();
-  if (at_rest) solver.passes = rest_schedule_passes;
   solver.contact_solver.prepare(contacts, bodies);
+  if (at_rest || takes_shallow_schedule(settings, solver, bodies, contacts, constraints)) {
+    solver.passes = light_schedule_passes;
+  }
 }
 
 void colour_and_pack(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts) {

@@ -11,25 +11,18 @@
 #include <cstdint>
 #include <vector>
 
-#include "world/bodies.h"
-#include "solver/body_integration.h"
 #include "collision/broad_phase.h"
-#include "solver/contact_batch.h"
 #include "collision/contact_cache.h"
+#include "solver/body_integration.h"
+#include "solver/contact_batch.h"
 #include "solver/contact_graph.h"
 #include "solver/contact_solver.h"
+#include "solver/step_schedule.h"
+#include "world/bodies.h"
 
 namespace fx2d::detail {
 
 struct StepContext;
-
-// The passes each substep of this step takes: the settings', or the rest schedule's
-// (FxSceneSettings::rest_schedule).
-struct PassCounts {
-  int velocity = 0;
-  int relax = 0;
-};
-inline constexpr PassCounts rest_schedule_passes{1, 1};
 
 struct SolverData {
   std::vector<FxBodyState> states;
@@ -37,14 +30,16 @@ struct SolverData {
   ContactSolver contact_solver;
   ContactGraph contact_graph;
   ContactBatches contact_batches;
+  SupportChains support_chains;       // prepare_solver's scratch for the shallow schedule
   PassCounts passes;                  // chosen by prepare_solver
 
   void reserve(std::size_t bodies);
 };
 
 // Stage prepare: gathers the bodies' hot state, lists one constraint per touching contact with an
-// awake body and chooses the step's passes.
-void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts);
+// awake body and chooses the step's passes (step_schedule.h).
+void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& bodies,
+                    const ContactCache& contacts, const Constraints& constraints);
 // Stage colour_and_pack: colours the contact constraints, builds each from its contact and bodies
 // into its lane of the batches and works out their separations at the step's start.
 void colour_and_pack(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts);

@@ -49,6 +49,9 @@ void validate_settings(const FxSceneSettings& s) {
   require(s.position_passes >= 0, "position_passes", "an integer >= 0");
   require(std::isfinite(s.rest_schedule_time) && s.rest_schedule_time >= 0.0f, "rest_schedule_time",
           "a finite number >= 0");
+  require(s.shallow_schedule_depth >= 0, "shallow_schedule_depth", "an integer >= 0");
+  require(std::isfinite(s.shallow_schedule_speed) && s.shallow_schedule_speed >= 0.0f,
+          "shallow_schedule_speed", "a finite number >= 0");
   require(std::isfinite(s.time_to_sleep) && s.time_to_sleep >= 0.0f, "time_to_sleep", "a finite number >= 0");
   require(std::isfinite(s.linear_sleep_speed) && s.linear_sleep_speed >= 0.0f, "linear_sleep_speed", "a finite number >= 0");
   require(std::isfinite(s.angular_sleep_speed) && s.angular_sleep_speed >= 0.0f, "angular_sleep_speed", "a finite number >= 0");
@@ -121,7 +124,7 @@ void World::step() {
     clock.switch_to(FxStage::collide);
     update_contacts(step, narrow_phase_, contacts_, bodies_, broad_phase_.tree);
     clock.switch_to(FxStage::prepare);
-    prepare_solver(step, solver_, bodies_, contacts_);
+    prepare_solver(step, solver_, bodies_, contacts_, constraints_);
     clock.switch_to(FxStage::colour_and_pack);
     colour_and_pack(step, solver_, bodies_, contacts_);
     solve_substeps(step, solver_, bodies_, constraints_);
