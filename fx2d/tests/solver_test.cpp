@@ -521,6 +521,15 @@ TEST(ShallowSchedule, AColumnAsTallAsTheDepthTakesItAndOneBoxTallerDoesNot) {
   }
 }
 
+TEST(ShallowSchedule, AtDepthZeroABoxOnTheGroundIsTooDeep) {
+  FxSceneSettings settings = shallow_only();
+  settings.shallow_schedule_depth = 0;
+  FxScene scene(settings);
+  add_ground(scene);
+  add_box(scene, {0.0f, 0.5f});
+  EXPECT_EQ(full_steps_of(scene, 10), 10);
+}
+
 TEST(ShallowSchedule, ABoxLandingFastTakesTheFullPassesAndTheColumnStandsAsOnThem) {
   // A box dropped from 3 m above a column of five lands at 7.7 m/s, faster than
   // shallow_schedule_speed (3 m/s): the steps in which it closes on the column are solved in full,

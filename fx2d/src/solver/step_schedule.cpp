@@ -63,6 +63,8 @@ bool SupportChains::all_within(std::span<const ConstraintSource> contacts, const
   for (const auto& [a, b] : pairs_) linked_[first_link_[a]++] = b, linked_[first_link_[b]++] = a;
   for (std::size_t i = body_count; i > 0; --i) first_link_[i] = first_link_[i - 1];
   first_link_[0] = 0;
+  // A body on a support stands on a chain of one.
+  if (max_bodies < 1 && !frontier_.empty()) return false;
   // Breadth first, so each body's depth is its shortest chain's.
   for (std::size_t next = 0; next < frontier_.size(); ++next) {
     const std::uint32_t body = frontier_[next];
