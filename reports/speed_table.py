@@ -2,21 +2,24 @@
 """Fx2D against Box2D 2.4.1 on every canonical cell: speed ratio, with sleeping on and off, and error.
 
     /usr/bin/python3 reports/speed_table.py [--bench PATH] [--scenes pile:300,600 ...]
-        [--repeats N] [--steps N] [--cpu K] [--sleeping on,off]
+        [--repeats N] [--steps N] [--runs K] [--cpu K] [--sleeping on,off]
 
-For every scene, size and sleeping setting, runs one `fx2d-bench run --engine fx2d,box2d --json`
-(both engines at their scene defaults, measured in the same process in alternating rounds, so a
-drift of the machine lands on both) and prints one Markdown row:
-the median ms per step of each, their ratio Fx2D / Box2D, Fx2D's primary error (the scene's own
+For every scene, size and sleeping setting, runs `fx2d-bench run --engine fx2d,box2d --json` K
+times (`--runs`, default 1; both engines at their scene defaults, measured in the same process in
+alternating rounds, so a drift of the machine lands on both) and prints one Markdown row:
+the median ms per step of each, their ratio Fx2D / Box2D (with more than one run, the median of
+the runs' ratios and their range), Fx2D's primary error (the scene's own
 metric: displacement for stacks, penetration otherwise), and where the cell stands against the
 targets the project set for it (issue 19: a ratio at most that of the fastest single-threaded 2D
-engine measured, an error inside a ceiling). `--cpu K` pins the runs to core K (taskset).
+engine measured, an error inside a ceiling). `--cpu K` pins the runs to core K (taskset). The
+error is the same in every run, as Fx2D is deterministic; runs that disagree stop the table.
 Exit status: 0 when every cell meets its targets, 1 when one misses, 2 for bad arguments or a run
 that failed.
 """
 
 import argparse
 import json
+import statistics
 import subprocess
 import sys
 
@@ -61,9 +64,16 @@ def primary_error(run):
 
 
 def row(args, scene, bodies, sleeping):
-    runs = measure(args, scene, bodies, sleeping)
-    fx2d, box2d = runs["fx2d"]["ms_per_step"]["median"], runs["box2d"]["ms_per_step"]["median"]
-    ratio, error = fx2d / box2d, primary_error(runs["fx2d"])
+    samples = [measure(args, scene, bodies, sleeping) for _ in range(args.runs)]
+    errors = {primary_error(runs["fx2d"]) for runs in samples}
+    if len(errors) != 1:
+        raise RuntimeError(f"{scene} {bodies}: Fx2D's error differs between runs ({sorted(errors)}): not deterministic")
+    error = errors.pop()
+    fx2d = statistics.median(runs["fx2d"]["ms_per_step"]["median"] for runs in samples)
+    box2d = statistics.median(runs["box2d"]["ms_per_step"]["median"] for runs in samples)
+    ratios = [runs["fx2d"]["ms_per_step"]["median"] / runs["box2d"]["ms_per_step"]["median"] for runs in samples]
+    ratio = statistics.median(ratios)
+    spread = f" [{min(ratios):.3f}-{max(ratios):.3f}]" if len(ratios) > 1 else ""
     ratio_target, ceiling = target(scene, bodies, sleeping)
     missed = []
     if ratio_target is not None and ratio > ratio_target:
@@ -71,8 +81,8 @@ def row(args, scene, bodies, sleeping):
     if ceiling is not None and error > ceiling:
         missed.append(f"error {error / ceiling:.2f}x its ceiling")
     verdict = "no target" if ratio_target is None else ("; ".join(missed) if missed else "meets")
-    text = (f"| {scene} | {bodies} | {'on' if sleeping else 'off'} | {fx2d:.4f} | {box2d:.4f} | {ratio:.3f} | "
-            f"{'' if ratio_target is None else f'<= {ratio_target:.2f}'} | {runs['fx2d']['primary_metric']} "
+    text = (f"| {scene} | {bodies} | {'on' if sleeping else 'off'} | {fx2d:.4f} | {box2d:.4f} | {ratio:.3f}{spread} | "
+            f"{'' if ratio_target is None else f'<= {ratio_target:.2f}'} | {samples[0]['fx2d']['primary_metric']} "
             f"{error * 1e3:.2f} mm | {'' if ceiling is None else f'<= {ceiling * 1e3:.0f} mm'} | {verdict} |")
     return text, bool(missed)
 
@@ -89,10 +99,13 @@ def main():
     parser.add_argument("--scenes", nargs="+", default=list(CANONICAL_SIZES))
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--steps", type=int, default=0, help="steps per run (default: the scene's)")
+    parser.add_argument("--runs", type=int, default=1, help="runs per cell; the ratio is their median")
     parser.add_argument("--cpu", type=int, help="pin every run to this core")
     parser.add_argument("--sleeping", default="on,off", help="on, off or on,off")
     args = parser.parse_args()
     try:
+        if args.runs < 1:
+            raise ValueError(f"--runs: {args.runs}, expected an integer >= 1")
         cells = parse_scenes(args.scenes)
         modes = [sleeping_mode(text) for text in args.sleeping.split(",")]
         print("| scene | bodies | sleeping | Fx2D ms/step | Box2D ms/step | ratio | target | Fx2D error | ceiling "
