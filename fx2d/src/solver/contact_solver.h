@@ -35,6 +35,15 @@ struct ConstraintSource {
   int point_count = 1;  // 1 or 2
 };
 
+// Calls visit(a, b) with the two bodies of every contact in `contacts`, then of every joint in
+// `joints`: the links that join bodies into islands (sleep.h) and support chains (step_schedule.h).
+template <typename Joints, typename Visit>
+void for_each_link(std::span<const ConstraintSource> contacts, const Joints& joints, Visit visit) {
+  for (const ConstraintSource& contact : contacts) visit(contact.body_a, contact.body_b);
+  for (const auto& joint : joints)
+    visit(joint->entity_a()->packed_index(), joint->entity_b()->packed_index());
+}
+
 struct ContactSolveParams {
   FxSoftness softness;
   float inv_substep_dt = 0;

@@ -52,10 +52,9 @@ bool SupportChains::all_within(std::span<const ConstraintSource> contacts, const
       if (depth_[held] == 0) depth_[held] = 1, frontier_.push_back(held);
     }
   };
-  for (const ConstraintSource& contact : contacts) add_link(contact.body_a, contact.body_b);
-  for (const auto& joint : joints) {
-    add_link(joint->entity_a()->packed_index(), joint->entity_b()->packed_index());
-  }
+  for_each_link(contacts, joints, add_link);
+  // A body on a support stands on a chain of one.
+  if (max_bodies < 1 && !frontier_.empty()) return false;
   // Each body's links, listed from first_link_[body]: counted above, placed here, the starts
   // advanced as they fill and then put back.
   for (std::size_t i = 1; i <= body_count; ++i) first_link_[i] += first_link_[i - 1];
@@ -63,8 +62,6 @@ bool SupportChains::all_within(std::span<const ConstraintSource> contacts, const
   for (const auto& [a, b] : pairs_) linked_[first_link_[a]++] = b, linked_[first_link_[b]++] = a;
   for (std::size_t i = body_count; i > 0; --i) first_link_[i] = first_link_[i - 1];
   first_link_[0] = 0;
-  // A body on a support stands on a chain of one.
-  if (max_bodies < 1 && !frontier_.empty()) return false;
   // Breadth first, so each body's depth is its shortest chain's.
   for (std::size_t next = 0; next < frontier_.size(); ++next) {
     const std::uint32_t body = frontier_[next];

@@ -1,7 +1,7 @@
 // How many passes a step's substeps take (FxSceneSettings::rest_schedule, shallow_schedule): the
 // settings', or one soft and one rigid pass for a step that needs no more. What the extra passes
 // converge is what a step's motion and its load paths bring: an impact's momentum shared down a
-// row of bodies, and a load carried down a tall column, one body further per pass. A step whose
+// row of bodies, and a load carried down a tall column, about one body further per pass. A step whose
 // contacts close slowly and whose bodies stand on short chains has neither.
 #pragma once
 

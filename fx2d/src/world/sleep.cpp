@@ -57,16 +57,9 @@ void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies
   // The step's contact constraints are the touching contacts with an awake body (prepare_solver),
   // in a compact list: walking it, rather than every cached contact or the awake bodies' contact
   // lists, finds the same islands (each root is its island's lowest index, whatever the order).
-  for (const ConstraintSource& contact : touching) {
-    if (links_islands(contact.body_a, contact.body_b)) {
-      unite(island_parent, static_cast<int>(contact.body_a), static_cast<int>(contact.body_b));
-    }
-  }
-  for (const auto& constraint : constraints) {
-    const std::uint32_t a = constraint->entity_a()->packed_index();
-    const std::uint32_t b = constraint->entity_b()->packed_index();
+  for_each_link(touching, constraints, [&](std::uint32_t a, std::uint32_t b) {
     if (links_islands(a, b)) unite(island_parent, static_cast<int>(a), static_cast<int>(b));
-  }
+  });
 
   for (const std::uint32_t i : moving) {
     if (records[i].type != FxBodyType::dynamic) continue;
