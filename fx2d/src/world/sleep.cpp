@@ -39,6 +39,12 @@ void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies
   const FxSceneSettings& settings = step.settings;
   if (!settings.sleeping) return;
   std::vector<BodyRecord>& records = bodies.records;
+  // An island sleeps once every body in it has rested time_to_sleep: while no body has, none can,
+  // and the islands are not worth finding. So it is in most steps of a scene still settling.
+  const bool any_rested = std::any_of(moving.begin(), moving.end(), [&](std::uint32_t i) {
+    return records[i].type == FxBodyType::dynamic && records[i].sleep_time >= settings.time_to_sleep;
+  });
+  if (!any_rested) return;
   std::vector<int>& island_parent = scratch.island_parent;
   std::vector<float>& island_min_sleep_time = scratch.island_min_sleep_time;
   // Only awake dynamic bodies, all of them in `moving`, join islands, so only their entries are
