@@ -1,7 +1,8 @@
 // Sleeping: an island (dynamic bodies connected by touching contacts or constraints) sleeps as a
 // whole once every body in it has rested for time_to_sleep; a body alone in the air never rests.
-// Islands are found afresh each step with a union-find over the packed arrays, whose roots are
-// the lowest packed index of each island, so the result depends only on the state, not on history.
+// Islands are found afresh, in each step in which some body has rested that long, with a
+// union-find over the packed arrays whose roots are the lowest packed index of each island, so
+// the result depends only on the state, not on history.
 // A sleeping body remembers its island's root in sleep_island; waking one wakes them all.
 #include "world/sleep.h"
 
