@@ -5,6 +5,7 @@
 #include "solver/contact_batch.h"
 
 #include <algorithm>
+#include <bit>
 
 namespace fx2d::detail {
 namespace {
@@ -427,6 +428,56 @@ FX2D_LANE_KERNEL void take_back_push_runs(std::span<const BatchRun> runs, Contac
   sweep_writing<&take_back_push_lane<1>, &take_back_push_lane<2>>(shared, runs, batches, states, {}, scalar, deep);
 }
 
+// The lanes of one batch with a point the position projection (ContactSolver::project_positions)
+// would push at these poses, a bit per lane: the point's separation as that pass measures it,
+// against the step's normal with each anchor turned as its body has (a circle's not at all), in
+// the same operations, so to the bit; pushed when not at least -slop (a superset of the points
+// that pass corrects, which also leaves alone a product that underflows to zero).
+template <int Points>
+FX2D_LANE_INLINE unsigned projection_overlap_lanes(const ContactBatch& __restrict k,
+                                                   const FxBodyState* __restrict states, float slop) {
+  LaneColumns a, b;
+  gather_columns<pose_row>(states, k.body_a, a);
+  gather_columns<pose_row>(states, k.body_b, b);
+  alignas(32) float dpx[lane_count], dpy[lane_count], aqc[lane_count], aqs[lane_count], bqc[lane_count],
+      bqs[lane_count];
+  to_lanes(b.c0 - a.c0, dpx), to_lanes(b.c1 - a.c1, dpy);
+  to_lanes(a.c2, aqc), to_lanes(a.c3, aqs), to_lanes(b.c2, bqc), to_lanes(b.c3, bqs);
+  alignas(32) std::int32_t pushed[lane_count];
+  // check-vectorized(2): the lane loop below, once per point count, must be vectorised
+#pragma GCC unroll 1
+  for (int lane = 0; lane < lane_count; ++lane) {
+    const std::int32_t round = k.round_sides[lane];
+    const bool still_a = (round & round_side_a) != 0, still_b = (round & round_side_b) != 0;
+    const float ac = still_a ? 1.0f : aqc[lane], as = still_a ? 0.0f : aqs[lane];
+    const float bc = still_b ? 1.0f : bqc[lane], bs = still_b ? 0.0f : bqs[lane];
+    std::int32_t any = 0;
+    for (int i = 0; i < Points; ++i) {
+      const PointColumns& point = k.point[i];
+      const float ax = point.anchor_ax[lane], ay = point.anchor_ay[lane];
+      const float bx = point.anchor_bx[lane], by = point.anchor_by[lane];
+      const float gap_x = dpx[lane] + ((bc * bx - bs * by) - (ac * ax - as * ay));
+      const float gap_y = dpy[lane] + ((bs * bx + bc * by) - (as * ax + ac * ay));
+      const float separation = (gap_x * k.normal_x[lane] + gap_y * k.normal_y[lane]) + point.adjusted_separation[lane];
+      any |= !(separation + slop >= 0.0f);
+    }
+    pushed[lane] = any;
+  }
+  unsigned lanes = 0;
+  for (int lane = 0; lane < lane_count; ++lane) lanes |= static_cast<unsigned>(pushed[lane] != 0) << lane;
+  return lanes;
+}
+
+FX2D_LANE_KERNEL void mark_projection_overlaps(std::span<const BatchRun> runs, const ContactBatch* batches,
+                                               const FxBodyState* states, float slop, std::uint8_t* lanes) {
+  for (const BatchRun& run : runs) {
+    for (int i = run.first; i < run.first + run.count; ++i) {
+      lanes[i] = static_cast<std::uint8_t>(run.point_count == 1 ? projection_overlap_lanes<1>(batches[i], states, slop)
+                                                                : projection_overlap_lanes<2>(batches[i], states, slop));
+    }
+  }
+}
+
 // Marks in `deep` each batch with a point deeper than `slop`; whether any has one.
 FX2D_LANE_KERNEL bool update_run_separations(std::span<const BatchRun> runs, ContactBatch* batches,
                                              const FxBodyState* states, float slop, std::uint8_t* deep) {
@@ -533,6 +584,19 @@ void ContactBatches::update_separations_apart(std::span<const FxBodyState> state
                            states.data(), slop, deep_.data());
   });
   any_deep_ = std::find(deep_.begin(), deep_.end(), std::uint8_t{1}) != deep_.end();
+}
+
+int ContactBatches::first_projection_overlap(std::span<const FxBodyState> states, float slop) {
+  mark_projection_overlaps(runs_, batches_.data(), states.data(), slop, projected_lanes_.data());
+  int first = static_cast<int>(lanes_.size());
+  for (int batch = 0; batch < batch_count_; ++batch) {
+    const BatchMembers members = members_[batch];
+    // Padding lanes hold no constraint.
+    for (unsigned lanes = projected_lanes_[batch] & ((1u << members.count) - 1); lanes != 0; lanes &= lanes - 1) {
+      first = std::min(first, members.first[std::countr_zero(lanes)]);
+    }
+  }
+  return first;
 }
 
 void ContactBatches::resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias,

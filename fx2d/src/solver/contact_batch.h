@@ -162,6 +162,10 @@ class ContactBatches {
   void take_back_push(std::span<FxBodyState> states, bool scalar, const Tasks& tasks);
   void resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias, bool scalar,
                           const Tasks& tasks);
+  // The first constraint (in pack()'s order) with a point that the position projection
+  // (ContactSolver::project_positions) would push at `states`, or the constraint count: found
+  // batch by batch in lanes, measured as that pass measures, to the bit.
+  int first_projection_overlap(std::span<const FxBodyState> states, float slop);
   // The batch and the lane that hold constraint `constraint` (an index into pack()'s constraints).
   ContactBatch& batch_holding(int constraint) { return batches_[lanes_[constraint] / lane_count]; }
   const ContactBatch& batch_holding(int constraint) const { return batches_[lanes_[constraint] / lane_count]; }
@@ -204,6 +208,8 @@ class ContactBatches {
   // Per batch: whether a point of it was deeper than the slop at the last update_separations().
   std::vector<std::uint8_t> deep_;
   bool any_deep_ = false;
+  // Per batch, scratch of first_projection_overlap(): its lanes that the projection would push.
+  std::vector<std::uint8_t> projected_lanes_;
 };
 
 }  // namespace fx2d::detail

@@ -305,6 +305,7 @@ void ContactBatches::reserve(std::size_t constraints) {
   batches_.reserve(constraints / lane_count + 2 * (ContactGraph::max_colours + 1));
   members_.reserve(batches_.capacity());
   deep_.reserve(batches_.capacity());
+  projected_lanes_.reserve(batches_.capacity());
   lanes_.reserve(constraints);
   runs_.reserve(2 * (ContactGraph::max_colours + 1));
 }
@@ -340,6 +341,7 @@ void ContactBatches::pack(std::span<const ConstraintSource> constraints, const C
   // Every mark is written by update_separations() before a pass reads it.
   deep_.resize(members_.size());
   any_deep_ = false;
+  projected_lanes_.resize(members_.size());
 }
 
 }  // namespace fx2d::detail

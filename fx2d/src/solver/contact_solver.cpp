@@ -55,7 +55,8 @@ struct LaneConstraint {
   }
 
   // Point `point`'s separation now, from the displacement of both bodies since the step began and
-  // its anchors as turned since.
+  // its anchors as turned since. ContactBatches::first_projection_overlap() measures the same in
+  // lanes, in the same operations, to find where project_positions() starts: change both.
   float current_separation(const FxBodyState& a, const FxBodyState& b, FxVec2f moved_a, FxVec2f moved_b,
                            int point) const {
     const FxVec2f gap = (b.delta_position - a.delta_position) + (moved_b - moved_a);
@@ -117,9 +118,12 @@ void ContactSolver::apply_restitution(ContactBatches& batches, std::span<FxBodyS
   }
 }
 
-void ContactSolver::project_positions(const ContactBatches& batches, std::span<FxBodyState> states,
+void ContactSolver::project_positions(ContactBatches& batches, std::span<FxBodyState> states,
                                       float linear_slop) const {
-  for (int i = 0; i < static_cast<int>(sources_.size()); ++i) {
+  // Contact by contact, each seeing what the ones before moved. Up to the first contact that
+  // overlaps deeper than the slop at the start, none moves anything: the pass starts there, and
+  // a step that left no such overlap, as most do, skips it. The same bits.
+  for (int i = batches.first_projection_overlap(states, linear_slop); i < static_cast<int>(sources_.size()); ++i) {
     const ConstraintSource& source = sources_[i];
     const LaneConstraint c{batches.batch_holding(i), batches.lane_holding(i)};
     FxBodyState& a = states[source.body_a];

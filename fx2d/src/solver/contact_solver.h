@@ -70,7 +70,7 @@ class ContactSolver {
   // After the substeps: bounce where an approaching point pushed and restitution is > 0.
   void apply_restitution(ContactBatches& batches, std::span<FxBodyState> states, float threshold) const;
   // Non-linear Gauss-Seidel projection of overlaps deeper than the slop, on positions only.
-  void project_positions(const ContactBatches& batches, std::span<FxBodyState> states, float linear_slop) const;
+  void project_positions(ContactBatches& batches, std::span<FxBodyState> states, float linear_slop) const;
   void store_impulses(const ContactBatches& batches, ContactCache& cache) const;
 
   std::span<const ConstraintSource> sources() const { return sources_; }
