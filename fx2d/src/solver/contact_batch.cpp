@@ -272,6 +272,16 @@ struct LanePoses {
   alignas(32) float nx[lane_count], ny[lane_count];
 };
 
+// Both bodies' displacements and turns since the step began, for every lane of one batch.
+FX2D_LANE_INLINE void gather_poses(const ContactBatch& __restrict k, const FxBodyState* __restrict states,
+                                   LanePoses& __restrict q) {
+  LaneColumns a, b;
+  gather_columns<pose_row>(states, k.body_a, a);
+  gather_columns<pose_row>(states, k.body_b, b);
+  to_lanes(b.c0 - a.c0, q.dpx), to_lanes(b.c1 - a.c1, q.dpy);
+  to_lanes(a.c2, q.aqc), to_lanes(a.c3, q.aqs), to_lanes(b.c2, q.bqc), to_lanes(b.c3, q.bqs);
+}
+
 // Every lane's normal turned as its NormalFrame says: with A, with B, or not at all. The last
 // multiplies by exactly one and zero, so a world-frame normal keeps its bits. A circle's anchor
 // turns as the normal does (ContactBatch::round_sides), so its rotation becomes the normal's.
@@ -330,12 +340,8 @@ FX2D_LANE_INLINE bool update_point_separations(ContactBatch& __restrict k, const
 template <int Points>
 FX2D_LANE_INLINE bool update_batch_separations(ContactBatch& __restrict k,
                                                const FxBodyState* __restrict states, float slop) {
-  LaneColumns a, b;
-  gather_columns<pose_row>(states, k.body_a, a);
-  gather_columns<pose_row>(states, k.body_b, b);
   LanePoses q;
-  to_lanes(b.c0 - a.c0, q.dpx), to_lanes(b.c1 - a.c1, q.dpy);
-  to_lanes(a.c2, q.aqc), to_lanes(a.c3, q.aqs), to_lanes(b.c2, q.bqc), to_lanes(b.c3, q.bqs);
+  gather_poses(k, states, q);
   turn_normals(k, q);
   bool deep = update_point_separations<0>(k, q, slop);
   if constexpr (Points == 2) deep |= update_point_separations<1>(k, q, slop);
@@ -436,28 +442,23 @@ FX2D_LANE_KERNEL void take_back_push_runs(std::span<const BatchRun> runs, Contac
 template <int Points>
 FX2D_LANE_INLINE unsigned projection_overlap_lanes(const ContactBatch& __restrict k,
                                                    const FxBodyState* __restrict states, float slop) {
-  LaneColumns a, b;
-  gather_columns<pose_row>(states, k.body_a, a);
-  gather_columns<pose_row>(states, k.body_b, b);
-  alignas(32) float dpx[lane_count], dpy[lane_count], aqc[lane_count], aqs[lane_count], bqc[lane_count],
-      bqs[lane_count];
-  to_lanes(b.c0 - a.c0, dpx), to_lanes(b.c1 - a.c1, dpy);
-  to_lanes(a.c2, aqc), to_lanes(a.c3, aqs), to_lanes(b.c2, bqc), to_lanes(b.c3, bqs);
+  LanePoses q;
+  gather_poses(k, states, q);
   alignas(32) std::int32_t pushed[lane_count];
   // check-vectorized(2): the lane loop below, once per point count, must be vectorised
 #pragma GCC unroll 1
   for (int lane = 0; lane < lane_count; ++lane) {
     const std::int32_t round = k.round_sides[lane];
     const bool still_a = (round & round_side_a) != 0, still_b = (round & round_side_b) != 0;
-    const float ac = still_a ? 1.0f : aqc[lane], as = still_a ? 0.0f : aqs[lane];
-    const float bc = still_b ? 1.0f : bqc[lane], bs = still_b ? 0.0f : bqs[lane];
+    const float ac = still_a ? 1.0f : q.aqc[lane], as = still_a ? 0.0f : q.aqs[lane];
+    const float bc = still_b ? 1.0f : q.bqc[lane], bs = still_b ? 0.0f : q.bqs[lane];
     std::int32_t any = 0;
     for (int i = 0; i < Points; ++i) {
       const PointColumns& point = k.point[i];
       const float ax = point.anchor_ax[lane], ay = point.anchor_ay[lane];
       const float bx = point.anchor_bx[lane], by = point.anchor_by[lane];
-      const float gap_x = dpx[lane] + ((bc * bx - bs * by) - (ac * ax - as * ay));
-      const float gap_y = dpy[lane] + ((bs * bx + bc * by) - (as * ax + ac * ay));
+      const float gap_x = q.dpx[lane] + ((bc * bx - bs * by) - (ac * ax - as * ay));
+      const float gap_y = q.dpy[lane] + ((bs * bx + bc * by) - (as * ax + ac * ay));
       const float separation = (gap_x * k.normal_x[lane] + gap_y * k.normal_y[lane]) + point.adjusted_separation[lane];
       any |= !(separation + slop >= 0.0f);
     }
