@@ -55,6 +55,7 @@ struct SweepOptions {
                                                                                        // default
   };
   std::vector<std::string> axis_texts;  // --axis ENGINE.KNOB=v1,v2,...: any engine's integer knob
+  std::vector<bool> named;  // per axis: given on the command line (its short form's flag or --axis)
   std::vector<double> dts;  // empty: the scene's own
   int repeats = 3;
   bool json = false;
@@ -229,8 +230,22 @@ const Knob& axis_knob(const SweepOptions& options, const std::string& text, cons
   throw InputError("--axis " + text + ": no selected engine reads /solver/" + engine);
 }
 
+// An engine with a knob named on the command line is swept over its named knobs alone; the others
+// keep the scene's own values. So `--axis fx2d.workers=1,2,3,4` measures four points, the scaling
+// asked for, and not the workers times Fx2D's default grid; with no knob named, the default grids
+// make the fronts.
+void hold_unnamed_knobs(SweepOptions& options) {
+  std::vector<std::string> named_engines;
+  for (std::size_t i = 0; i < options.axes.size(); ++i)
+    if (options.named[i]) named_engines.push_back(options.axes[i].engine);
+  for (std::size_t i = 0; i < options.axes.size(); ++i)
+    if (!options.named[i] && std::ranges::find(named_engines, options.axes[i].engine) != named_engines.end())
+      options.axes[i].values.clear();
+}
+
 // Each --axis ENGINE.KNOB=v1,v2,...: the values of a short form's axis, or a new axis of a plugin's
-// knob; then each axis of a plugin's knob takes the knob's default where a scene leaves it unset.
+// knob; then the knobs left out of an engine named there are held (hold_unnamed_knobs), and each
+// axis of a plugin's knob takes the knob's default where a scene leaves it unset.
 void add_axes(SweepOptions& options) {
   for (const std::string& text : options.axis_texts) {
     const auto dot = text.find('.');
@@ -262,11 +277,15 @@ void add_axes(SweepOptions& options) {
                          formatted(" to %g, got '", high) + item + "'");
       values.push_back(value);
     }
-    if (existing != options.axes.end())
+    if (existing != options.axes.end()) {
       existing->values = std::move(values);
-    else
+      options.named[static_cast<std::size_t>(existing - options.axes.begin())] = true;
+    } else {
       options.axes.push_back({engine, key, "--axis", static_cast<int>(low), std::move(values), {}});
+      options.named.push_back(true);
+    }
   }
+  hold_unnamed_knobs(options);
   for (KnobAxis& axis : options.axes) {
     for (const EngineInfo* engine : options.engines.selected()) {
       const auto knob = std::ranges::find(engine->knobs, axis.key, &Knob::name);
@@ -304,6 +323,7 @@ void register_sweep(CLI::App& app, const std::string& command_line) {
   options->scenes.add_to(*sweep, "pile");
   options->engines.add_to(*sweep);
   options->shard.add_to(*sweep);
+  std::vector<const CLI::Option*> short_forms;  // per axis of options->axes, its flag
   for (KnobAxis& axis : options->axes) {
     const std::string what = axis.engine + " " + axis.key + " values to try, comma-separated";
     CLI::Option* option = sweep->add_option(axis.flag, axis.values, axis.values.empty() ? what + " (default: not swept)" : what)
@@ -311,11 +331,13 @@ void register_sweep(CLI::App& app, const std::string& command_line) {
                               ->allow_extra_args(false)
                               ->check(CLI::Range(axis.min_value, max_knob_value));
     if (!axis.values.empty()) option->capture_default_str();
+    short_forms.push_back(option);
   }
   sweep
       ->add_option("--axis", options->axis_texts,
                    "Sweep any engine's integer knob, e.g. chipmunk.iterations=5,10,20 (the flags above are "
-                   "its short forms)")
+                   "its short forms). Once any knob of an engine is named, here or by a flag above, only its "
+                   "named knobs are swept; the others keep the scene's values instead of their default grids")
       ->allow_extra_args(false);
   sweep->add_option("--dt", options->dts, "Time steps to try, s, comma-separated (default: the scene's)")
       ->delimiter(',')
@@ -325,7 +347,11 @@ void register_sweep(CLI::App& app, const std::string& command_line) {
   sweep->add_flag("--json", options->json, "Print the points and fronts as one JSON object (fx2d-bench.sweep/1)");
   CLI::Option* out = sweep->add_option("--out", options->out, "Write the runs and the /sweep table to this HDF5 file");
   sweep->add_flag("--force", options->force, "Overwrite the --out file if it exists")->needs(out);
-  sweep->callback([options, command_line] { sweep_command(*options, command_line); });
+  sweep->callback([options, short_forms, command_line] {
+    options->named.clear();
+    for (const CLI::Option* flag : short_forms) options->named.push_back(flag->count() > 0);
+    sweep_command(*options, command_line);
+  });
 }
 
 }  // namespace fxbench

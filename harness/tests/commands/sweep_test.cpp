@@ -149,6 +149,37 @@ TEST(SweepCommand, SweepsRelaxationPassesWhenAskedAndKeepsTheSceneItselfAsTheDef
   fs::remove_all(directory);
 }
 
+TEST(SweepCommand, NamingOneKnobOfAnEngineHoldsItsOthersAtTheScenesValues) {
+  // A scaling sweep: only the workers vary, Fx2D's substeps and passes stay the scene's own; Box2D,
+  // none of whose knobs is named, keeps its default grid (6 x 3 points, the scene's own among them).
+  const std::string scene = std::string(FX2D_SOURCE_DIR) + "/scenes/tests/single_box_on_ground.json";
+  const Outcome outcome = run_bench(
+      "sweep " + scene + " --engine fx2d,box2d --axis fx2d.workers=1,2 --steps 20 --repeats 1 --json");
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.out;
+  const auto points = nlohmann::json::parse(outcome.out)["points"];
+  std::vector<nlohmann::json> fx2d_settings;
+  int box2d_points = 0;
+  for (const auto& point : points) {
+    if (point["engine"] == "fx2d") fx2d_settings.push_back(point["settings"]);
+    box2d_points += point["engine"] == "box2d" ? 1 : 0;
+  }
+  ASSERT_EQ(fx2d_settings.size(), 2u);
+  EXPECT_EQ(fx2d_settings[0], (nlohmann::json{{"workers", 1}}));
+  EXPECT_EQ(fx2d_settings[1], (nlohmann::json{{"workers", 2}}));
+  EXPECT_EQ(box2d_points, 18);
+
+  // A short form names its knob as --axis does: the passes alone, at the scene's 8 substeps.
+  const Outcome passes =
+      run_bench("sweep " + scene + " --engine fx2d --fx2d-passes 1,4 --steps 20 --repeats 1 --json");
+  ASSERT_EQ(passes.exit_code, 0) << passes.out;
+  const auto pass_points = nlohmann::json::parse(passes.out)["points"];
+  ASSERT_EQ(pass_points.size(), 3u);  // 1 and 4, then the scene's own 2
+  EXPECT_EQ(pass_points[0]["settings"], (nlohmann::json{{"velocity_passes", 1}}));
+  EXPECT_EQ(pass_points[1]["settings"], (nlohmann::json{{"velocity_passes", 4}}));
+  EXPECT_EQ(pass_points[2]["settings"], (nlohmann::json{{"velocity_passes", 2}}));
+  EXPECT_TRUE(pass_points[2]["default"].get<bool>());
+}
+
 TEST(SweepCommand, RefusesAnExistingOutWithoutForce) {
   const fs::path out = fs::temp_directory_path() / ("sweep_test_exists_" + std::to_string(getpid()) + ".h5");
   { std::FILE* file = std::fopen(out.string().c_str(), "w"); std::fclose(file); }
