@@ -3,7 +3,6 @@
 // error) prints one line and exits 2; anything else is a bug or an engine failure, one line and
 // exit 4. Never a stack trace, never more than one line.
 #include <CLI/CLI.hpp>
-#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -15,8 +14,15 @@
 namespace {
 
 int fail(const std::string& message, fxbench::ExitCode code) {
+  // One line, whatever the message holds (a file name, a system error, a command-line argument): a
+  // line break becomes a space, any other control character, which a terminal would act on, a '?'.
   std::string line = message;
-  std::ranges::replace(line, '\n', ' ');
+  for (char& c : line) {
+    if (c == '\n' || c == '\r' || c == '\t')
+      c = ' ';
+    else if (static_cast<unsigned char>(c) < 0x20 || c == '\x7f')
+      c = '?';
+  }
   std::fprintf(stderr, "fx2d-bench: %s\n", line.c_str());
   return code;
 }

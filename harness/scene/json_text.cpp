@@ -73,7 +73,13 @@ bool pointer_is_within(std::string_view pointer, std::string_view ancestor) {
          (pointer.size() == ancestor.size() || pointer[ancestor.size()] == '/');
 }
 
-std::string display_pointer(const std::string& pointer) { return pointer.empty() ? "(root)" : pointer; }
+// Spelt as a JSON string in the file spells it, without the quotes: a key holding a newline or a
+// terminal's escape shows as \n or \u001b, so the message stays one line and shows what the file says.
+std::string display_pointer(const std::string& pointer) {
+  if (pointer.empty()) return "(root)";
+  const std::string quoted = Json(pointer).dump(-1, ' ', false, Json::error_handler_t::replace);
+  return quoted.substr(1, quoted.size() - 2);
+}
 
 TextPosition position_at(std::string_view text, std::size_t offset) {
   offset = std::min(offset, text.size());

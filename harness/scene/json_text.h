@@ -21,6 +21,7 @@ std::optional<std::size_t> parse_array_index(std::string_view token);
 
 bool pointer_is_within(std::string_view pointer, std::string_view ancestor);
 
+// A pointer as a message shows it: "(root)" for the whole document, otherwise escaped as in JSON.
 std::string display_pointer(const std::string& pointer);
 
 struct TextPosition {

@@ -54,6 +54,14 @@ def endless_fifo(cwd):
     return subprocess.Popen(["sh", "-c", "exec yes > endless"], cwd=cwd)
 
 
+CONTROL_NAME = "odd\nname\x1b[2J\r.json"  # a line break, a terminal's clear-screen, a carriage return
+
+
+def control_named_scene(cwd):
+    with open(os.path.join(cwd, CONTROL_NAME), "w") as scene:
+        scene.write("not json")
+
+
 def sparse_gigabyte(cwd):
     with open(os.path.join(cwd, "sparse.json"), "wb") as sparse:
         sparse.truncate(1 << 30)
@@ -80,6 +88,8 @@ MISUSES = [
            seconds=INPUT_LIMIT_SECONDS, setup=endless_fifo),
     Misuse("run: a 1 GB sparse file", ["run", "sparse.json"], "more than 16 MiB",
            seconds=INPUT_LIMIT_SECONDS, setup=sparse_gigabyte),
+    Misuse("run: a file name holding control characters", ["run", CONTROL_NAME],
+           "odd name?[2J .json:1:2: syntax error", setup=control_named_scene),
     # engines
     Misuse("engines: an argument it does not take", ["engines", "pile"], "pile"),
     Misuse("engines: an unknown option", ["engines", "--csv"], "--csv"),

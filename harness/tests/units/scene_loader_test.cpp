@@ -619,6 +619,15 @@ TEST(Errors, UnknownKeyFarFromEveryKeyListsTheKeysAccepted) {
             R"(t.json:1:39: /bounds/zzzzzz: unknown key; expected one of "lower", "upper")");
 }
 
+TEST(Errors, AKeyHoldingControlCharactersIsShownEscapedOnOneLine) {
+  // The key as the file spells it: a newline or a terminal's escape in a message would break the
+  // one line (libFuzzer found the newline, harness/fuzz/crashes/scene_loader/newline_in_key.json).
+  EXPECT_EQ(load_error(scene_with(R"("bounds": {"low\ner": 1, "x\u001b[2J\"\\": 2})")),
+            R"(t.json:1:39: /bounds/low\ner: unknown key; did you mean "lower"?)");
+  EXPECT_EQ(load_error(scene_with(R"("bounds": {"x\u001b[2J\"\\": 2})")),
+            R"(t.json:1:39: /bounds/x\u001b[2J\"\\: unknown key; expected one of "lower", "upper")");
+}
+
 TEST(Errors, WrongTypeNamesWhatWasExpectedAndWhatCame) {
   EXPECT_EQ(load_error("{\"schema\": \"fx2d.scene/1\",\n \"size\": \"a\"}"),
             R"(t.json:2:10: /size: expected an integer >= 0, got "a")");
