@@ -12,6 +12,7 @@
 
 #include "analysis/compare.h"
 #include "common/bounded_read.h"
+#include "scene/json_reader.h"
 #include "stats/statistics.h"
 
 namespace fxbench {
@@ -21,13 +22,15 @@ using nlohmann::json;
 
 // --- the policy file ------------------------------------------------------------------------------
 
-// Walks the policy JSON; every complaint names the file and the JSON pointer of the offending value.
+// Walks the policy JSON; every complaint names the file, the line and column and the JSON pointer
+// of the offending value (of its key, for an unknown key), as the scene loader's do.
 class PolicyReader {
  public:
-  explicit PolicyReader(std::string label) : label_(std::move(label)) {}
+  // `text` is the file's, and must outlive the reader.
+  PolicyReader(std::string_view text, std::string label) : errors_(text, std::move(label)) {}
 
-  [[noreturn]] void fail(const std::string& pointer, const std::string& what) const {
-    throw InputError(label_ + ": " + (pointer.empty() ? "/" : pointer) + ": " + what);
+  [[noreturn]] void fail(const std::string& pointer, const std::string& what, bool at_key = false) const {
+    errors_.fail(pointer, what, at_key);
   }
 
   // `value` must be an object whose keys are all among `allowed` and include every `required`.
@@ -38,7 +41,7 @@ class PolicyReader {
       if (std::ranges::find(allowed, key) == allowed.end()) {
         std::string names;
         for (const char* name : allowed) names += std::string(names.empty() ? "" : ", ") + name;
-        fail(pointer + "/" + key, "unknown key; expected one of " + names);
+        fail(scene_detail::child_pointer(pointer, key), "unknown key; expected one of " + names, true);
       }
     }
     for (const char* name : required)
@@ -133,7 +136,7 @@ class PolicyReader {
     return text.str();
   }
 
-  std::string label_;
+  scene_detail::ErrorReporter errors_;
 };
 
 // --- judging rows ---------------------------------------------------------------------------------
@@ -300,9 +303,8 @@ const Quarantine* Policy::quarantined(const std::string& engine, const std::stri
 bool Policy::is_control(const std::string& engine) const { return std::ranges::find(controls, engine) != controls.end(); }
 
 Policy parse_policy(const std::string& text, const std::string& label) {
-  const json document = json::parse(text, nullptr, false);
-  if (document.is_discarded()) throw InputError(label + ": not valid JSON; expected a " + gating_schema + " object");
-  const PolicyReader reader(label);
+  const json document = scene_detail::parse_json_text(text, label);
+  const PolicyReader reader(text, label);
   reader.expect_object(document, "", {"schema", "suite", "smoke", "controls", "defaults", "scenes", "quarantine"},
                        {"schema", "suite", "smoke", "defaults"});
   if (document["schema"] != gating_schema)
@@ -313,7 +315,7 @@ Policy parse_policy(const std::string& text, const std::string& label) {
     if (!document["scenes"].is_object()) reader.fail("/scenes", "expected an object: scene name -> thresholds");
     for (const auto& [scene, overrides] : document["scenes"].items()) {
       Thresholds thresholds = policy.defaults;
-      reader.thresholds(overrides, "/scenes/" + scene, thresholds, true);
+      reader.thresholds(overrides, scene_detail::child_pointer("/scenes", scene), thresholds, true);
       policy.scene_thresholds.emplace_back(scene, thresholds);
     }
   }

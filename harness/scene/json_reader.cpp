@@ -22,7 +22,36 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
   return previous[b.size()];
 }
 
+// nlohmann's "syntax error while parsing value - unexpected ']'; expected ..." loses its prefix
+// and position (we give our own, from the byte offset it reports).
+std::string readable_syntax_error(const Json::parse_error& error) {
+  std::string reason = error.what();
+  if (const std::size_t column = reason.find(": "); column != std::string::npos)
+    reason = reason.substr(column + 2);
+  if (const std::size_t dash = reason.find(" - ");
+      reason.starts_with("syntax error") && dash != std::string::npos) {
+    reason = reason.substr(dash + 3);
+  }
+  return "syntax error: " + reason;
+}
+
 }  // namespace
+
+Json parse_json_text(const std::string& text, const std::string& origin) {
+  try {
+    return Json::parse(text);
+  } catch (const Json::parse_error& error) {
+    const TextPosition position = position_at(text, error.byte == 0 ? 0 : error.byte - 1);
+    throw InputError(origin + ":" + std::to_string(position.line) + ":" + std::to_string(position.column) +
+                     ": " + readable_syntax_error(error));
+  } catch (const Json::out_of_range& error) {
+    // A number literal beyond double range ("1e400"); nlohmann gives no position for it.
+    std::string reason = error.what();
+    if (const std::size_t column = reason.find("] "); column != std::string::npos)
+      reason = reason.substr(column + 2);
+    throw InputError(origin + ": " + reason + "; expected numbers within double range");
+  }
+}
 
 std::string describe_value(const Json& value) {
   constexpr std::size_t kMaxShown = 60;

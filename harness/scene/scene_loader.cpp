@@ -98,38 +98,10 @@ void apply_overrides(Json& document, const SceneOverrides& overrides, ErrorRepor
   }
 }
 
+}  // namespace
+
 // ---------------------------------------------------------------------------------------------
 // Parsing
-
-// nlohmann's "syntax error while parsing value - unexpected ']'; expected ..." loses its prefix
-// and position (we give our own, from the byte offset it reports).
-std::string readable_syntax_error(const Json::parse_error& error) {
-  std::string reason = error.what();
-  if (const std::size_t column = reason.find(": "); column != std::string::npos)
-    reason = reason.substr(column + 2);
-  if (const std::size_t dash = reason.find(" - ");
-      reason.starts_with("syntax error") && dash != std::string::npos) {
-    reason = reason.substr(dash + 3);
-  }
-  return "syntax error: " + reason;
-}
-
-Json parse_document(const std::string& text, const std::string& origin) {
-  try {
-    return Json::parse(text);
-  } catch (const Json::parse_error& error) {
-    const TextPosition position = position_at(text, error.byte == 0 ? 0 : error.byte - 1);
-    throw InputError(origin + ":" + std::to_string(position.line) + ":" + std::to_string(position.column) +
-                     ": " + readable_syntax_error(error));
-  } catch (const Json::out_of_range& error) {
-    // A number literal beyond double range ("1e400"); nlohmann gives no position for it.
-    std::string reason = error.what();
-    if (const std::size_t column = reason.find("] "); column != std::string::npos) reason = reason.substr(column + 2);
-    throw InputError(origin + ": " + reason + "; expected numbers within double range");
-  }
-}
-
-}  // namespace
 
 // Arrays and objects nested deeper than any scene needs are refused before parsing: the parser
 // recurses and allocates per level, so a file of '[' could otherwise take gigabytes.
@@ -159,7 +131,7 @@ void require_shallow(const std::string& text, const std::string& origin) {
 SceneSpec load_scene_text(const std::string& text, const std::string& origin,
                           const SceneOverrides& overrides) {
   require_shallow(text, origin);
-  Json document = parse_document(text, origin);
+  Json document = parse_json_text(text, origin);
   ErrorReporter errors(text, origin);
   apply_overrides(document, overrides, errors);
   SceneSpec spec = read_scene(errors, document);

@@ -233,14 +233,19 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 
 TEST(GatePolicyRefusals, EachBadPolicyIsNamedByItsJsonPointer) {
   const std::string good = test_policy;
-  expect_policy_error(replaced(good, "\"noise\": 0.03125", "\"nosie\": 0.03125"), "bad.json: /defaults/nosie: unknown key");
-  expect_policy_error(replaced(good, "\"noise\": 0.25", "\"noise\": 2"), "/scenes/stacks/noise: expected a number in [0, 0.5]");
+  expect_policy_error(replaced(good, "\"noise\": 0.03125", "\"nosie\": 0.03125"),
+                      "bad.json:6:16: /defaults/nosie: unknown key");
+  expect_policy_error(replaced(good, "\"noise\": 0.25", "\"noise\": 2"),
+                      "bad.json:7:34: /scenes/stacks/noise: expected a number in [0, 0.5]");
   expect_policy_error(replaced(good, ",\n                  \"reason\": \"ODE's QuickStep timing swings 5% between boots (test)\"", ""),
                       "/quarantine/0: missing 'reason'");
   expect_policy_error(replaced(good, "\"rounds\": 6", "\"rounds\": 5"), "/smoke/rounds: expected at least 6 rounds, got 5");
   expect_policy_error(replaced(good, "\"rounds\": 8", "\"rounds\": 0"), "/suite/rounds: expected an integer in [6,");
   expect_policy_error(replaced(good, "gating/1", "gating/9"), "/schema: expected \"fx2d-bench.gating/1\"");
-  expect_policy_error("{ not json", "bad.json: not valid JSON");
+  expect_policy_error("{ not json", "bad.json:1:4: syntax error: invalid literal");
+  // A key as the file spells it, escaped as JSON pointers escape '/' and '~'.
+  expect_policy_error(replaced(good, "\"stacks\": {\"noise\"", "\"a/b~c\": {\"nose\""),
+                      "bad.json:7:24: /scenes/a~1b~0c/nose: unknown key");
 }
 
 // The rounds are judged by a sign test: a policy must ask for at least as many as it can decide on
@@ -340,7 +345,8 @@ TEST_F(GateCommand, BadPolicyIsOneLineAndExitCodeTwo) {
   const bench_test::Ending ending = gate({compare, "--policy", policy});
   EXPECT_EQ(ending.exit_code, 2);
   EXPECT_EQ(std::ranges::count(ending.err, '\n'), 1) << ending.err;
-  EXPECT_NE(ending.err.find("bad.json: /defaults/alpha: expected a number"), std::string::npos) << ending.err;
+  EXPECT_NE(ending.err.find("bad.json:6:43: /defaults/alpha: expected a number"), std::string::npos)
+      << ending.err;
   EXPECT_TRUE(ending.out.empty()) << ending.out;
 }
 

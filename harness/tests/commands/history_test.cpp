@@ -323,13 +323,14 @@ TEST_F(HistoryTest, EveryMisuseIsOneLineAndExitCodeTwo) {
   const std::string compare = compare_file(1);
   const std::vector<std::pair<std::vector<std::string>, std::string>> misuses = {
       {{"history", "append", history(), "--compare", scene, "--candidate", "c", "--baseline", "b"},
-       scene + ": expected a fx2d-bench.compare/1 object"},                                   // wrong file type
+       scene + ": expected a fx2d-bench.compare/1 object"},  // wrong file type
       {{"history", "append", history(), "--compare", compare, "--baseline", "b"}, "--candidate is required"},
-      {{"history", "append", history(), "--compare", compare, "--candidate", "c", "--baseline", "b", "--policy", scene},
-       scene + ": /"},                                                                       // a scene as the policy
-      {{"history", "show", compare}, compare},                                                // JSON as the history
+      {{"history", "append", history(), "--compare", compare, "--candidate", "c", "--baseline", "b",
+        "--policy", scene},
+       scene + ":11:3: /bounds: unknown key"},  // a scene as the policy
+      {{"history", "show", compare}, compare},  // JSON as the history
       {{"history", "show", history(), "--last", "0"}, "--last"},
-      {{"history"}, "A subcommand is required"},                                              // missing argument
+      {{"history"}, "A subcommand is required"},  // missing argument
   };
   for (const auto& [arguments, expected] : misuses) {
     const Ending ending = bench_test::run_bench(arguments, directory_);
