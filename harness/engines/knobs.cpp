@@ -11,6 +11,7 @@
 #include "common/errors.h"
 #include "common/number_text.h"
 #include "engines/engine.h"
+#include "scene/json_text.h"
 
 namespace fxbench {
 namespace {
@@ -50,18 +51,26 @@ std::string knob_range_text(const Knob& knob) {
 std::vector<double> knob_values(const std::string& solver, std::span<const Knob> knobs,
                                 const SceneSpec& scene) {
   const Json block = solver_block(solver, scene);
-  const std::string origin = scene.source_path.empty() ? "scene " + scene.name : scene.source_path;
-  const std::string pointer = origin + ": /solver/" + solver + "/";
+  // A value's place as the scene loader found it (a file's line:column, or the --set that wrote
+  // it); the scene's name for a value the scene format itself filled in.
+  const auto where = [&](const std::string& key) {
+    const std::string pointer = scene_detail::child_pointer("/solver/" + solver, key);
+    const auto place = scene.knob_places.find(pointer);
+    const std::string origin = place != scene.knob_places.end() ? place->second
+                               : scene.source_path.empty()      ? "scene " + scene.name
+                                                                : scene.source_path;
+    return origin + ": " + scene_detail::display_pointer(pointer);
+  };
   for (const auto& [key, value] : block.items()) {
     if (std::ranges::find(knobs, key, &Knob::name) == knobs.end()) {
       std::string names;
       for (const Knob& knob : knobs) names += (names.empty() ? "" : ", ") + knob.name;
-      throw InputError(pointer + key + ": not a knob of " + solver + "; expected one of " + names);
+      throw InputError(where(key) + ": not a knob of " + solver + "; expected one of " + names);
     }
   }
   std::vector<double> values;
   for (const Knob& knob : knobs)
-    values.push_back(block.contains(knob.name) ? checked_value(knob, block[knob.name], pointer + knob.name)
+    values.push_back(block.contains(knob.name) ? checked_value(knob, block[knob.name], where(knob.name))
                                                : knob.default_value);
   return values;
 }

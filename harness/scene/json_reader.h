@@ -67,9 +67,11 @@ class ErrorReporter {
 
   const std::string& origin() const { return origin_; }
 
- private:
-  std::string where(const std::string& pointer, bool at_key) const;
+  // Where the value at `pointer` (its key, when `at_key`) came from: "origin:line:column", or the
+  // command-line override that set it.
+  std::string where(const std::string& pointer, bool at_key = false) const;
 
+ private:
   std::string_view text_;
   std::string origin_;
   std::vector<OverrideOrigin> overrides_;

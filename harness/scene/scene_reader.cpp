@@ -44,8 +44,8 @@ MaterialSpec read_material(ObjectReader& parent, const MaterialSpec& inherited) 
 // An engine's block of knobs (Fx2D's, Box2D's, ODE's, or a plugin engine's): an object of numbers and
 // true/false under the engine's name, kept as given; the engine checks it against its knobs
 // (engines/engine.h, knob_values) when a command selects it, the one check of its values. A name a typo away
-// from one of the format's own blocks is that typo, refused.
-void read_knob_blocks(ObjectReader& solver, const Json& blocks) {
+// from one of the format's own blocks is that typo, refused. Each value's place is kept for that check.
+void read_knob_blocks(ObjectReader& solver, const Json& blocks, std::map<std::string, std::string>& places) {
   const std::vector<std::string> format_blocks(format_solver_blocks.begin(), format_solver_blocks.end());
   for (const auto& [name, block] : blocks.items()) {
     if (std::ranges::find(format_blocks, name) == format_blocks.end() && near_key(name, format_blocks))
@@ -60,6 +60,7 @@ void read_knob_blocks(ObjectReader& solver, const Json& blocks) {
     for (const auto& [key, value] : block.items()) {
       if (!value.is_number() && !value.is_boolean())
         settings.errors().expected(settings.at(key), "a number or true or false", value);
+      places[settings.at(key)] = settings.errors().where(settings.at(key));
     }
   }
 }
@@ -87,10 +88,10 @@ void record_defaults(ObjectReader& solver, const std::string& engine, const Json
   for (const auto& [key, value] : defaults.items()) record_in_kind_of(block.slot(key, value), value);
 }
 
-void read_solver(ObjectReader& scene) {
+void read_solver(ObjectReader& scene, SceneSpec& spec) {
   Json& blocks = scene.slot("solver", Json::object());
   ObjectReader solver(scene.errors(), blocks, scene.at("solver"));
-  read_knob_blocks(solver, blocks);
+  read_knob_blocks(solver, blocks, spec.knob_places);
   record_defaults(solver, "fx2d", {{"substeps", 8}, {"velocity_passes", 2}, {"sleeping", true}});
   record_defaults(solver, "box2d",
                   {{"velocity_iterations", 8}, {"position_iterations", 3}, {"sleeping", true}});
@@ -459,7 +460,7 @@ SceneSpec read_scene(const ErrorReporter& errors, Json& document) {
   spec.gravity = scene.vec2("gravity", spec.gravity, kSigned);
   spec.primary_metric = kMetricValues[scene.choice("primary_metric", "penetration", kMetrics)];
   read_bounds(scene, spec);
-  read_solver(scene);
+  read_solver(scene, spec);
   const MaterialSpec material = read_material(scene, MaterialSpec{});
 
   std::vector<PendingGround> pending_grounds;

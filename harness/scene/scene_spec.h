@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -75,6 +76,9 @@ struct SceneSpec {
   PrimaryMetric primary_metric = PrimaryMetric::penetration;
   std::vector<BodySpec> bodies;
   std::vector<JointSpec> joints;
+  // Where each value of an engine's knob block came from, for the engine's refusal of it
+  // (engines/knobs.cpp): "/solver/<engine>/<key>" -> "file:line:col" or the --set that wrote it.
+  std::map<std::string, std::string> knob_places;
 };
 
 // The scene's size as results name it: its size parameter N, or for a scene that has none (a file

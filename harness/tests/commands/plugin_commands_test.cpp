@@ -221,9 +221,10 @@ TEST_F(PluginCommands, AKnobOutOfItsRangeIsRefusedInOneLineBeforeMeasuring) {
   const Ending ended =
       bench({"run", "stacks", "--engine", "chipmunk", "--set", "/solver/chipmunk/iterations=0"});
   EXPECT_EQ(ended.exit_code, 2);
-  EXPECT_EQ(
-      ended.err,
-      "fx2d-bench: scene stacks: /solver/chipmunk/iterations: expected an integer from 1 to 1000, got 0\n");
+  EXPECT_EQ(ended.err,
+            "fx2d-bench: --set /solver/chipmunk/iterations=0: /solver/chipmunk/iterations: expected an "
+            "integer from 1 "
+            "to 1000, got 0\n");
   EXPECT_EQ(ended.out, "");
 }
 
@@ -231,9 +232,11 @@ TEST_F(PluginCommands, AKeyThatIsNoKnobIsRefusedWithTheKnobsItCouldBe) {
   const Ending ended =
       bench({"run", "stacks", "--engine", "chipmunk", "--set", "/solver/chipmunk/iteration=5"});
   EXPECT_EQ(ended.exit_code, 2);
-  EXPECT_EQ(ended.err,
-            "fx2d-bench: scene stacks: /solver/chipmunk/iteration: not a knob of chipmunk; expected one of "
-            "iterations, sleeping, sleep_time, collision_slop, threads\n");
+  EXPECT_EQ(
+      ended.err,
+      "fx2d-bench: --set /solver/chipmunk/iteration=5: /solver/chipmunk/iteration: not a knob of chipmunk; "
+      "expected one of "
+      "iterations, sleeping, sleep_time, collision_slop, threads\n");
 }
 
 // chipmunk.threads 2 steps a hasty space (cpHastySpace.h) with two solver threads: the pile stays
@@ -251,17 +254,22 @@ TEST_F(PluginCommands, ChipmunkThreadsBeyondTheTwoItRunsAreRefusedInOneLine) {
   const Ending ended =
       bench({"run", "stacks", "--engine", "chipmunk", "--set", "/solver/chipmunk/threads=3"});
   EXPECT_EQ(ended.exit_code, 2);
-  EXPECT_EQ(ended.err,
-            "fx2d-bench: scene stacks: /solver/chipmunk/threads: expected an integer from 1 to 2, got 3\n");
+  EXPECT_EQ(
+      ended.err,
+      "fx2d-bench: --set /solver/chipmunk/threads=3: /solver/chipmunk/threads: expected an integer from 1 to "
+      "2, got 3\n");
 }
 
 // Fx2D's, Box2D's and ODE's blocks are checked once, by the engine's knobs, as any engine's: one line
-// naming the scene's file, the JSON pointer and what the knob takes, exit code 2, nothing measured.
+// naming the scene's file, the value's line and column, the JSON pointer and what the knob takes,
+// exit code 2, nothing measured.
 TEST_F(PluginCommands, BuiltInEnginesBlocksAreCheckedByTheirKnobsInOneLineNamingTheFile) {
   const std::string file = path("t.json");
+  std::string text;
   const auto error_of = [&](const std::string& engine, const std::string& block) {
-    std::ofstream(file) << R"({"schema": "fx2d.scene/1", "bodies": [{"shape": {"circle": 1}}], "solver": {")"
-                        << engine << R"(": )" << block << "}}";
+    text = R"({"schema": "fx2d.scene/1", "bodies": [{"shape": {"circle": 1}}], "solver": {")" + engine +
+           R"(": )" + block + "}}";
+    std::ofstream(file) << text;
     const Ending ended = bench({"run", file, "--engine", engine});
     EXPECT_EQ(ended.exit_code, 2) << block;
     EXPECT_EQ(ended.out, "") << block;
@@ -293,8 +301,11 @@ TEST_F(PluginCommands, BuiltInEnginesBlocksAreCheckedByTheirKnobsInOneLineNaming
        "iteration: not a knob of ode; expected one of iterations, erp, cfm, auto_disable, threads"},
   };
   for (const Case& bad : cases) {
-    EXPECT_EQ(error_of(bad.engine, bad.block),
-              "fx2d-bench: " + file + ": /solver/" + bad.engine + "/" + bad.error + "\n");
+    const std::string error = error_of(bad.engine, bad.block);
+    // The block's one value, on the file's one line.
+    const std::size_t column = text.find(bad.block) + bad.block.find(": ") + 3;
+    EXPECT_EQ(error, "fx2d-bench: " + file + ":1:" + std::to_string(column) + ": /solver/" + bad.engine +
+                         "/" + bad.error + "\n");
   }
 }
 
@@ -392,7 +403,7 @@ TEST_F(PluginCommands, AnOdeKnobOutOfRangeFromSetIsRefusedInOneLine) {
            {"/solver/ode/threads=9", "threads: expected an integer from 1 to 8, got 9"}}) {
     const Ending ended = bench({"run", "stacks", "--engine", "ode", "--set", set});
     EXPECT_EQ(ended.exit_code, 2) << set;
-    EXPECT_EQ(ended.err, "fx2d-bench: scene stacks: /solver/ode/" + error + "\n");
+    EXPECT_EQ(ended.err, "fx2d-bench: --set " + set + ": /solver/ode/" + error + "\n");
     EXPECT_EQ(ended.out, "") << set;
   }
 }

@@ -49,8 +49,8 @@ def main():
         refused = subprocess.run([bench, "run", "stacks", "--engine", engines, "--set", "/solver/my_engine/substeps=65"],
                                  capture_output=True, text=True)
         assert refused.returncode == 2, refused
-        assert refused.stderr == ("fx2d-bench: scene stacks: /solver/my_engine/substeps: expected an integer "
-                                  "from 1 to 64, got 65\n"), refused.stderr
+        assert refused.stderr == ("fx2d-bench: --set /solver/my_engine/substeps=65: /solver/my_engine/substeps: "
+                                  "expected an integer from 1 to 64, got 65\n"), refused.stderr
         sweep = json.loads(run([bench, "sweep", "stacks", "--bodies", "10", "--steps", "30", "--repeats", "1",
                                 "--engine", f"plugin:{plugin}|mine", "--axis", "my_engine.substeps=2,4",
                                 "--json"]).stdout)
