@@ -303,7 +303,8 @@ const Quarantine* Policy::quarantined(const std::string& engine, const std::stri
 bool Policy::is_control(const std::string& engine) const { return std::ranges::find(controls, engine) != controls.end(); }
 
 Policy parse_policy(const std::string& text, const std::string& label) {
-  const json document = scene_detail::parse_json_text(text, label);
+  const json document =
+      scene_detail::parse_json_text(text, label, std::string("a ") + gating_schema + " object");
   const PolicyReader reader(text, label);
   reader.expect_object(document, "", {"schema", "suite", "smoke", "controls", "defaults", "scenes", "quarantine"},
                        {"schema", "suite", "smoke", "defaults"});

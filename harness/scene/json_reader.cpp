@@ -35,9 +35,39 @@ std::string readable_syntax_error(const Json::parse_error& error) {
   return "syntax error: " + reason;
 }
 
+// Arrays and objects nested deeper than any scene or policy needs are refused before parsing: the
+// parser allocates per level, so a file of '[' could otherwise take gigabytes (16 MiB of them: 616
+// MB).
+void require_shallow(const std::string& text, const std::string& origin, std::string_view expected) {
+  constexpr int max_depth = 64;
+  int depth = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > max_depth) {
+        const TextPosition position = position_at(text, i);
+        throw InputError(origin + ":" + std::to_string(position.line) + ":" +
+                         std::to_string(position.column) + ": nesting deeper than " +
+                         std::to_string(max_depth) + " levels, expected " + std::string(expected));
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
 }  // namespace
 
-Json parse_json_text(const std::string& text, const std::string& origin) {
+Json parse_json_text(const std::string& text, const std::string& origin, std::string_view expected) {
+  require_shallow(text, origin, expected);
   try {
     return Json::parse(text);
   } catch (const Json::parse_error& error) {

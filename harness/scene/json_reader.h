@@ -32,9 +32,10 @@ struct OverrideOrigin {
   std::string written;  // pointer of the value set, or of the first object the set had to create
 };
 
-// `text` parsed as JSON; a syntax error is one InputError line naming `origin`, the line and
-// column, and what the parser expected there.
-Json parse_json_text(const std::string& text, const std::string& origin);
+// `text` parsed as JSON; a syntax error, or nesting deeper than 64 levels (refused before the
+// parser allocates for it), is one InputError line naming `origin`, the line and column, and what
+// was expected there (`expected` names the document, e.g. "a scene").
+Json parse_json_text(const std::string& text, const std::string& origin, std::string_view expected);
 
 // What a value is, for "got ...": its JSON text, shortened to stay on one readable line.
 std::string describe_value(const Json& value);

@@ -73,7 +73,7 @@ bool pointer_is_within(std::string_view pointer, std::string_view ancestor) {
          (pointer.size() == ancestor.size() || pointer[ancestor.size()] == '/');
 }
 
-// Spelt as a JSON string in the file spells it, without the quotes: a key holding a newline or a
+// Spelt as the file's JSON string spells it, without the quotes: a key holding a newline or a
 // terminal's escape shows as \n or \u001b, so the message stays one line and shows what the file says.
 std::string display_pointer(const std::string& pointer) {
   if (pointer.empty()) return "(root)";

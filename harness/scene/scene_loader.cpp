@@ -101,37 +101,11 @@ void apply_overrides(Json& document, const SceneOverrides& overrides, ErrorRepor
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
-// Parsing
-
-// Arrays and objects nested deeper than any scene needs are refused before parsing: the parser
-// recurses and allocates per level, so a file of '[' could otherwise take gigabytes.
-void require_shallow(const std::string& text, const std::string& origin) {
-  constexpr int max_depth = 64;
-  int depth = 0;
-  bool in_string = false;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > max_depth) {
-        const TextPosition position = position_at(text, i);
-        throw InputError(origin + ":" + std::to_string(position.line) + ":" + std::to_string(position.column) +
-                         ": nesting deeper than " + std::to_string(max_depth) + " levels, expected a scene");
-      }
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-}
+// Loading
 
 SceneSpec load_scene_text(const std::string& text, const std::string& origin,
                           const SceneOverrides& overrides) {
-  require_shallow(text, origin);
-  Json document = parse_json_text(text, origin);
+  Json document = parse_json_text(text, origin, "a scene");
   ErrorReporter errors(text, origin);
   apply_overrides(document, overrides, errors);
   SceneSpec spec = read_scene(errors, document);
