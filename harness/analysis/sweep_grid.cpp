@@ -87,6 +87,33 @@ PointResult figures_of(const RunRecord& run, std::size_t run_index, const SceneS
   return result;
 }
 
+namespace {
+
+// Each round's mean ms per step over dt: its cost per simulated second, in ms.
+std::vector<double> round_costs(const RunRecord& run, double dt) {
+  std::vector<double> costs = row_means(run.wall_ms, static_cast<std::size_t>(run.steps));
+  for (double& cost : costs) cost /= dt;
+  return costs;
+}
+
+}  // namespace
+
+void compare_with_defaults(Sweep& sweep) {
+  for (PointResult& point : sweep.points) {
+    point.vs_default.reset();
+    const auto is_its_default = [&](const PointResult& other) {
+      return other.grid.is_default && other.pareto_group == point.pareto_group;
+    };
+    const auto found = std::ranges::find_if(sweep.points, is_its_default);
+    if (found == sweep.points.end()) continue;
+    const RunRecord& run = sweep.results.runs[point.run];
+    const RunRecord& default_run = sweep.results.runs[found->run];
+    if (run.repeats != default_run.repeats || run.repeats == 0) continue;
+    point.vs_default = bootstrap_paired_median_ratio(round_costs(default_run, found->grid.dt),
+                                                     round_costs(run, point.grid.dt));
+  }
+}
+
 void place_on_fronts(Sweep& sweep) {
   std::vector<ParetoPoint> pareto;
   for (const PointResult& point : sweep.points) pareto.push_back({point.pareto_group, point.cost, point.error});

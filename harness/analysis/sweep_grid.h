@@ -54,6 +54,9 @@ struct PointResult {
   AccuracySample worst;
   int pareto_group = 0;      // one per scene x engine of the whole plan, so shards agree
   std::size_t work_item = 0; // the point's index in the whole plan
+  // Its cost over the cost of its scene and engine's default point, round by round (compare_with_defaults);
+  // empty when the default was not measured in the same rounds.
+  std::optional<RatioEstimate> vs_default;
 };
 
 // The whole plan's points in order, each with its measuring cost and its key: what --shard splits
@@ -104,5 +107,13 @@ PointResult figures_of(const RunRecord& run, std::size_t run_index, const SceneS
 
 // Marks each point on or off its scene x engine front (pareto_group).
 void place_on_fronts(Sweep& sweep);
+
+// Sets each point's vs_default: the paired median over the rounds k of cost_k(point) / cost_k(default),
+// with its bootstrap interval (bootstrap_paired_median_ratio), where cost_k is round k's mean ms per
+// step over dt and the default is the point of the same front marked is_default. The points of one
+// front take their rounds in turn (interleave.h), so round k of each ran in the same pass over them
+// and the machine's drift cancels in the ratio, as it does in `ab`. A point whose default is not
+// among the sweep's points (another shard measured it), or ran another number of rounds, gets none.
+void compare_with_defaults(Sweep& sweep);
 
 }  // namespace fxbench

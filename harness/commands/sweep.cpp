@@ -210,6 +210,7 @@ Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
   }
   if (isatty(STDERR_FILENO) == 1) std::fputs("\r\x1b[K", stderr);
   place_on_fronts(sweep);
+  compare_with_defaults(sweep);
   return sweep;
 }
 

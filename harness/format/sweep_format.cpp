@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <iterator>
+#include <limits>
 
 #include "common/number_text.h"
 #include "format/summary_format.h"
@@ -19,11 +20,35 @@ H5Column column(const Sweep& sweep, std::string name, std::string units, Field f
   return {std::move(name), std::move(units), std::move(values)};
 }
 
+// A point's cost over its default's, with its interval, or "-" when the sweep has none.
+std::string vs_default_text(const PointResult& point) {
+  if (!point.vs_default) return "-";
+  const RatioEstimate& estimate = *point.vs_default;
+  return formatted("%.3f", estimate.ratio) + formatted(" [%.3f", estimate.ci.low) +
+         formatted("-%.3f]", estimate.ci.high);
+}
+
+// The same as JSON: null when the sweep has none.
+nlohmann::ordered_json vs_default_json(const PointResult& point) {
+  if (!point.vs_default) return nullptr;
+  const RatioEstimate& estimate = *point.vs_default;
+  return {{"ratio", estimate.ratio}, {"ci_low", estimate.ci.low}, {"ci_high", estimate.ci.high}};
+}
+
+// One figure of a point's vs_default, as a /sweep column's field: NaN when the sweep has none.
+template <class Figure>
+auto vs_default_column(Figure figure) {
+  return [figure](const PointResult& point, std::size_t) {
+    return point.vs_default ? figure(*point.vs_default) : std::numeric_limits<double>::quiet_NaN();
+  };
+}
+
 }  // namespace
 
 std::string sweep_table(const Sweep& sweep) {
   std::vector<std::vector<std::string>> rows = {{"scene", "engine", "settings", "dt s", "ms/step [95% CI]",
-                                                 "max pen mm", "max disp m", "escaped", "nan", "front", "default"}};
+                                                 "cost x default [95% CI]", "max pen mm", "max disp m",
+                                                 "escaped", "nan", "front", "default"}};
   for (std::size_t i = 0; i < sweep.points.size(); ++i) {
     const PointResult& point = sweep.points[i];
     const std::string primary = " (primary)";
@@ -31,6 +56,7 @@ std::string sweep_table(const Sweep& sweep) {
     rows.push_back({point.scene, point.engine, knobs_text(point.grid.knobs), formatted("%.5g", point.grid.dt),
                     formatted("%.3f", point.ms_median) + formatted(" [%.3f", point.ms_interval.low) +
                         formatted("-%.3f]", point.ms_interval.high),
+                    vs_default_text(point),
                     formatted("%.2f", point.worst.max_penetration * 1e3) + (by_displacement ? "" : primary),
                     formatted("%.3f", point.worst.max_displacement) + (by_displacement ? primary : ""),
                     std::to_string(point.worst.escaped), std::to_string(point.worst.nan),
@@ -73,14 +99,20 @@ nlohmann::ordered_json sweep_json(const Sweep& sweep) {
         {"dt", point.grid.dt},
         {"steps", run.steps},
         {"repeats", run.repeats},
-        {"ms_per_step", {{"median", point.ms_median}, {"ci_low", point.ms_interval.low}, {"ci_high", point.ms_interval.high}}},
+        {"ms_per_step",
+         {{"median", point.ms_median},
+          {"ci_low", point.ms_interval.low},
+          {"ci_high", point.ms_interval.high}}},
         {"ms_per_simulated_s", point.cost},
+        {"cost_vs_default", vs_default_json(point)},
         {"primary_metric", metric_name(point.metric)},
-        {"primary_error", std::isinf(point.error) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(point.error)},
+        {"primary_error",
+         std::isinf(point.error) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(point.error)},
         {"accuracy", accuracy_json(worst)},
         {"default", point.grid.is_default},
         {"on_front", static_cast<bool>(sweep.marks.on_front[i])},
-        {"dominated_by", sweep.marks.dominated_by[i] ? nlohmann::ordered_json(*sweep.marks.dominated_by[i]) : nlohmann::ordered_json(nullptr)},
+        {"dominated_by", sweep.marks.dominated_by[i] ? nlohmann::ordered_json(*sweep.marks.dominated_by[i])
+                                                     : nlohmann::ordered_json(nullptr)},
     });
   }
   for (const std::vector<std::size_t>& front : sweep.marks.fronts) {
@@ -114,26 +146,46 @@ H5Table sweep_table_h5(const Sweep& sweep, std::span<const KnobAxis> axes, int r
   };
   std::vector<H5Column> figures{
       column<double>(sweep, "dt", "s", [](const PointResult& p, std::size_t) { return p.grid.dt; }),
-      column<std::int32_t>(sweep, "steps", "step", [&](const PointResult& p, std::size_t) { return run(p).steps; }),
-      column<double>(sweep, "ms_per_step", "ms", [](const PointResult& p, std::size_t) { return p.ms_median; }),
-      column<double>(sweep, "ms_per_step_ci_low", "ms", [](const PointResult& p, std::size_t) { return p.ms_interval.low; }),
-      column<double>(sweep, "ms_per_step_ci_high", "ms", [](const PointResult& p, std::size_t) { return p.ms_interval.high; }),
-      column<double>(sweep, "ms_per_simulated_s", "ms/s", [](const PointResult& p, std::size_t) { return p.cost; }),
-      column<std::string>(sweep, "primary_metric", "", [](const PointResult& p, std::size_t) { return metric_name(p.metric); }),
+      column<std::int32_t>(sweep, "steps", "step",
+                           [&](const PointResult& p, std::size_t) { return run(p).steps; }),
+      column<double>(sweep, "ms_per_step", "ms",
+                     [](const PointResult& p, std::size_t) { return p.ms_median; }),
+      column<double>(sweep, "ms_per_step_ci_low", "ms",
+                     [](const PointResult& p, std::size_t) { return p.ms_interval.low; }),
+      column<double>(sweep, "ms_per_step_ci_high", "ms",
+                     [](const PointResult& p, std::size_t) { return p.ms_interval.high; }),
+      column<double>(sweep, "ms_per_simulated_s", "ms/s",
+                     [](const PointResult& p, std::size_t) { return p.cost; }),
+      column<double>(sweep, "cost_vs_default", "ratio",
+                     vs_default_column([](const RatioEstimate& e) { return e.ratio; })),
+      column<double>(sweep, "cost_vs_default_ci_low", "ratio",
+                     vs_default_column([](const RatioEstimate& e) { return e.ci.low; })),
+      column<double>(sweep, "cost_vs_default_ci_high", "ratio",
+                     vs_default_column([](const RatioEstimate& e) { return e.ci.high; })),
+      column<std::string>(sweep, "primary_metric", "",
+                          [](const PointResult& p, std::size_t) { return metric_name(p.metric); }),
       column<double>(sweep, "primary_error", "m", [](const PointResult& p, std::size_t) { return p.error; }),
       column<double>(sweep, "max_penetration", "m", worst(&AccuracySample::max_penetration)),
       column<double>(sweep, "mean_penetration", "m", worst(&AccuracySample::mean_penetration)),
       column<double>(sweep, "max_displacement", "m", worst(&AccuracySample::max_displacement)),
       column<double>(sweep, "max_lateral_drift", "m", worst(&AccuracySample::max_lateral_drift)),
       column<double>(sweep, "final_kinetic_energy", "J", worst(&AccuracySample::kinetic_energy)),
-      column<std::int32_t>(sweep, "escaped", "bodies", [](const PointResult& p, std::size_t) { return p.worst.escaped; }),
-      column<std::int32_t>(sweep, "nan", "bodies", [](const PointResult& p, std::size_t) { return p.worst.nan; }),
-      column<std::uint8_t>(sweep, "is_default", "flag", [](const PointResult& p, std::size_t) { return p.grid.is_default; }),
-      column<std::uint8_t>(sweep, "on_front", "flag", [&](const PointResult&, std::size_t i) { return sweep.marks.on_front[i]; }),
-      column<std::int32_t>(sweep, "front_rank", "rank", [&](const PointResult&, std::size_t i) { return sweep.marks.front_rank[i]; }),
-      column<std::int32_t>(sweep, "dominated_by", "index", [&](const PointResult&, std::size_t i) {
-        return sweep.marks.dominated_by[i] ? static_cast<int>(*sweep.marks.dominated_by[i]) : -1;
-      }),
+      column<std::int32_t>(sweep, "escaped", "bodies",
+                           [](const PointResult& p, std::size_t) { return p.worst.escaped; }),
+      column<std::int32_t>(sweep, "nan", "bodies",
+                           [](const PointResult& p, std::size_t) { return p.worst.nan; }),
+      column<std::uint8_t>(sweep, "is_default", "flag",
+                           [](const PointResult& p, std::size_t) { return p.grid.is_default; }),
+      column<std::uint8_t>(sweep, "on_front", "flag",
+                           [&](const PointResult&, std::size_t i) { return sweep.marks.on_front[i]; }),
+      column<std::int32_t>(sweep, "front_rank", "rank",
+                           [&](const PointResult&, std::size_t i) { return sweep.marks.front_rank[i]; }),
+      column<std::int32_t>(sweep, "dominated_by", "index",
+                           [&](const PointResult&, std::size_t i) {
+                             return sweep.marks.dominated_by[i]
+                                        ? static_cast<int>(*sweep.marks.dominated_by[i])
+                                        : -1;
+                           }),
   };
   columns.insert(columns.end(), std::make_move_iterator(figures.begin()), std::make_move_iterator(figures.end()));
   return {"/sweep",

@@ -210,9 +210,10 @@ TEST(Merge, ThreeSweepShardsAsProcessesMergeToTheUnshardedSweep) {
       {"sweep", "stacks", "--bodies", "10", "--steps", "20", "--repeats", "1", "--fx2d-substeps", "1,2", "--fx2d-passes",
        "1", "--box2d-velocity", "1,2", "--box2d-position", "1", "--ode-iterations", "5,10", "--dt", "0.01,0.02"},
       directory);
-  expect_same_columns(read_table_h5(whole, "/sweep"), read_table_h5(merged, "/sweep"),
-                      {"ms_per_step", "ms_per_step_ci_low", "ms_per_step_ci_high", "ms_per_simulated_s", "on_front",
-                       "front_rank", "dominated_by"});
+  expect_same_columns(
+      read_table_h5(whole, "/sweep"), read_table_h5(merged, "/sweep"),
+      {"ms_per_step", "ms_per_step_ci_low", "ms_per_step_ci_high", "ms_per_simulated_s", "cost_vs_default",
+       "cost_vs_default_ci_low", "cost_vs_default_ci_high", "on_front", "front_rank", "dominated_by"});
   const ResultSet whole_runs = read_results_h5(whole);
   const ResultSet merged_runs = read_results_h5(merged);
   ASSERT_EQ(whole_runs.runs.size(), merged_runs.runs.size());

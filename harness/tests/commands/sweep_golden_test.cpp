@@ -1,9 +1,10 @@
 // Golden output of `fx2d-bench sweep --json` on a tiny grid: two settings of each engine's main
 // knob (and each engine's default, which the sweep adds) on a ten-box stack, all three engines.
 // Compared exactly: the points' order, settings, time steps, step counts, scene hash, accuracy
-// figures, primary error and default flag, and which fronts there are. Masked: what a clock
-// decides, the timings and, because a point's cost is its timing, whether it is on its front,
-// what dominates it and the order of each front's points.
+// figures, primary error and default flag, whether a point has a cost ratio to its default, and
+// which fronts there are. Masked: what a clock decides, the timings and that ratio and, because a
+// point's cost is its timing, whether it is on its front, what dominates it and the order of each
+// front's points.
 //
 // Regenerate (never by hand), after a deliberate change to an engine's physics or to the output:
 //   FX2D_UPDATE_GOLDENS=1 <build>/harness/tests/sweep_golden_test
@@ -24,8 +25,11 @@ namespace fs = std::filesystem;
 using bench_test::Ending;
 
 void mask_timings(nlohmann::ordered_json& sweep) {
-  for (auto& point : sweep["points"])
+  for (auto& point : sweep["points"]) {
     for (const char* key : {"ms_per_step", "ms_per_simulated_s", "on_front", "dominated_by"}) point[key] = "<timing>";
+    // Whether a point has a ratio to its default is decided by the plan; its figures by the clock.
+    if (!point["cost_vs_default"].is_null()) point["cost_vs_default"] = "<timing>";
+  }
   for (auto& front : sweep["fronts"]) front["points"] = "<timing>";
 }
 

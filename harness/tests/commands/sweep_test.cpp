@@ -1,6 +1,7 @@
 // End-to-end test of `fx2d-bench sweep`: a 2-point grid on the smallest contact scene, checked
 // through --json (schema, the default added to the grid and marked, fronts consistent with the
-// points' flags) and through the /sweep table of the --out file.
+// points' flags, each point's cost against the default's worked out again from the stored steps)
+// and through the /sweep table of the --out file.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <sys/wait.h>
@@ -42,6 +43,24 @@ long rows_of(hid_t file, const char* dataset_path) {
   H5Sclose(space);
   H5Dclose(dataset);
   return rows;
+}
+
+// A one-dimensional dataset read as T, which `memory_type` (H5T_NATIVE_INT, H5T_NATIVE_DOUBLE) names.
+template <class T>
+std::vector<T> column_of(hid_t file, const char* dataset_path, hid_t memory_type) {
+  std::vector<T> values(static_cast<std::size_t>(rows_of(file, dataset_path)));
+  const hid_t dataset = H5Dopen2(file, dataset_path, H5P_DEFAULT);
+  H5Dread(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+  H5Dclose(dataset);
+  return values;
+}
+
+std::vector<double> double_column(hid_t file, const char* dataset_path) {
+  return column_of<double>(file, dataset_path, H5T_NATIVE_DOUBLE);
+}
+
+std::vector<int> int_column(hid_t file, const char* dataset_path) {
+  return column_of<int>(file, dataset_path, H5T_NATIVE_INT);
 }
 
 TEST(SweepCommand, TwoPointGridGetsTheDefaultAddedAndConsistentFronts) {
@@ -91,16 +110,32 @@ TEST(SweepCommand, TwoPointGridGetsTheDefaultAddedAndConsistentFronts) {
   EXPECT_EQ(rows_of(file, "/sweep/fx2d_substeps"), 3);
   EXPECT_EQ(rows_of(file, "/runs/2/wall_ms"), 2 * 60);  // repeats x steps of the default's run
   EXPECT_GT(H5Aexists(file, "schema"), 0);
+
+  // Each point's cost against the default's, from the steps the file keeps: per round, the mean
+  // step time over dt; per point, the median of its two rounds' ratios to the default's, their mean.
+  const std::vector<double> ratios = double_column(file, "/sweep/cost_vs_default");
+  ASSERT_EQ(ratios.size(), 3u);
+  const auto round_costs = [&](std::size_t point) {
+    const std::vector<double> steps =
+        double_column(file, ("/runs/" + std::to_string(point) + "/wall_ms").c_str());
+    const double dt = points[point]["dt"].get<double>();
+    double first = 0.0, second = 0.0;
+    for (std::size_t step = 0; step < 60; ++step) first += steps[step], second += steps[60 + step];
+    return std::pair{first / 60.0 / dt, second / 60.0 / dt};
+  };
+  const auto [default_first, default_second] = round_costs(2);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto [first, second] = round_costs(i);
+    const double expected = (first / default_first + second / default_second) / 2.0;
+    const auto& versus = points[i]["cost_vs_default"];
+    EXPECT_NEAR(versus["ratio"].get<double>(), expected, 1e-9 * expected) << "point " << i;
+    EXPECT_NEAR(ratios[i], expected, 1e-9 * expected) << "point " << i;
+    EXPECT_LE(versus["ci_low"].get<double>(), versus["ratio"].get<double>());
+    EXPECT_LE(versus["ratio"].get<double>(), versus["ci_high"].get<double>());
+  }
+  EXPECT_EQ(points[2]["cost_vs_default"]["ratio"], 1.0);
   H5Fclose(file);
   fs::remove(out);
-}
-
-std::vector<int> int_column(hid_t file, const char* dataset_path) {
-  std::vector<int> values(static_cast<std::size_t>(rows_of(file, dataset_path)));
-  const hid_t dataset = H5Dopen2(file, dataset_path, H5P_DEFAULT);
-  H5Dread(dataset, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
-  H5Dclose(dataset);
-  return values;
 }
 
 // relax_passes is an optional key that scenes leave out. Swept, the point at Fx2D's default is the
