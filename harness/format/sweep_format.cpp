@@ -71,8 +71,11 @@ std::string sweep_table(const Sweep& sweep) {
     if (const auto better = sweep.marks.dominated_by[i]) {
       const PointResult& other = sweep.points[*better];
       text += "off its front; ";
-      text += knobs_text(other.grid.knobs) + formatted(" dt=%g", other.grid.dt) + " is at least as accurate at " +
-              formatted("%.0f%% of its cost\n", 100.0 * other.cost / point.cost);
+      text += knobs_text(other.grid.knobs) + formatted(" dt=%g", other.grid.dt) +
+              " is at least as accurate at " +
+              formatted("%.0f%% of its cost", 100.0 * other.cost / point.cost);
+      // The medians' ratio decides the front; the rounds' pairs say how sure that is.
+      text += other.vs_default ? " (paired by round: " + vs_default_text(other) + ")\n" : "\n";
     } else {
       text += formatted("on its front, #%.0f from the fastest\n", sweep.marks.front_rank[i] + 1);
     }

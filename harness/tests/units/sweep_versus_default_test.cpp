@@ -1,12 +1,15 @@
 // Tests of a sweep point's cost against its default's (compare_with_defaults, sweep_grid.h) on
 // hand-made runs whose rounds give known ratios: the machine's drift between rounds cancels in the
-// pairs, a smaller time step costs more per simulated second, and a point without its default
-// measured in the same rounds gets no ratio.
-#include "analysis/sweep_grid.h"
-
+// pairs, a smaller time step costs more per simulated second, a point without its default
+// measured in the same rounds gets no ratio, and the table's line on a default off its front
+// quotes the paired ratio beside the medians'.
 #include <gtest/gtest.h>
 
+#include <string>
 #include <vector>
+
+#include "analysis/sweep_grid.h"
+#include "format/sweep_format.h"
 
 namespace fxbench {
 namespace {
@@ -84,6 +87,32 @@ TEST(CompareWithDefaults, APointWithoutItsDefaultInTheSameRoundsGetsNoRatio) {
   EXPECT_TRUE(sweep.points[0].vs_default.has_value());
   EXPECT_FALSE(sweep.points[1].vs_default.has_value());
   EXPECT_FALSE(sweep.points[2].vs_default.has_value());
+}
+
+TEST(CompareWithDefaults, TheLineOnADefaultOffItsFrontQuotesThePairedRatio) {
+  // Two settings of one knob, equally accurate; the other takes half the default's time in every
+  // round, so it dominates the default, and the rounds' pairs say 0.5 with no width.
+  Sweep sweep;
+  add_point(sweep, run_of({2.0, 4.0, 3.0}), 0.01, true);
+  add_point(sweep, run_of({1.0, 2.0, 1.5}), 0.01, false);
+  for (std::size_t i = 0; i < sweep.points.size(); ++i) {
+    PointResult& point = sweep.points[i];
+    point.scene = "stacks";
+    point.engine = "fx2d";
+    point.grid.knobs = {{"workers", i == 0 ? 1 : 2}};
+    point.ms_median = i == 0 ? 3.0 : 1.5;
+    point.cost = point.ms_median / point.grid.dt;
+    point.error = 0.001;
+  }
+  place_on_fronts(sweep);
+  compare_with_defaults(sweep);
+  const std::string table = sweep_table(sweep);
+  EXPECT_NE(
+      table.find(
+          "stacks, fx2d default (workers=1): off its front; workers=2 dt=0.01 is at least as accurate at "
+          "50% of its cost (paired by round: 0.500 [0.500-0.500])\n"),
+      std::string::npos)
+      << table;
 }
 
 }  // namespace
