@@ -20,12 +20,14 @@ H5Column column(const Sweep& sweep, std::string name, std::string units, Field f
   return {std::move(name), std::move(units), std::move(values)};
 }
 
+// "value [low-high]", three decimals each.
+std::string with_interval(double value, const Interval& interval) {
+  return formatted("%.3f", value) + formatted(" [%.3f", interval.low) + formatted("-%.3f]", interval.high);
+}
+
 // A point's cost over its default's, with its interval, or "-" when the sweep has none.
 std::string vs_default_text(const PointResult& point) {
-  if (!point.vs_default) return "-";
-  const RatioEstimate& estimate = *point.vs_default;
-  return formatted("%.3f", estimate.ratio) + formatted(" [%.3f", estimate.ci.low) +
-         formatted("-%.3f]", estimate.ci.high);
+  return point.vs_default ? with_interval(point.vs_default->ratio, point.vs_default->ci) : "-";
 }
 
 // The same as JSON: null when the sweep has none.
@@ -54,9 +56,7 @@ std::string sweep_table(const Sweep& sweep) {
     const std::string primary = " (primary)";
     const bool by_displacement = point.metric == PrimaryMetric::displacement;
     rows.push_back({point.scene, point.engine, knobs_text(point.grid.knobs), formatted("%.5g", point.grid.dt),
-                    formatted("%.3f", point.ms_median) + formatted(" [%.3f", point.ms_interval.low) +
-                        formatted("-%.3f]", point.ms_interval.high),
-                    vs_default_text(point),
+                    with_interval(point.ms_median, point.ms_interval), vs_default_text(point),
                     formatted("%.2f", point.worst.max_penetration * 1e3) + (by_displacement ? "" : primary),
                     formatted("%.3f", point.worst.max_displacement) + (by_displacement ? primary : ""),
                     std::to_string(point.worst.escaped), std::to_string(point.worst.nan),
