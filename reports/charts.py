@@ -246,14 +246,20 @@ def speedup(series, out_dir):
     axes.plot([1, most], [1, most], "--", color="#999", lw=1.2, label="ideal (speedup = workers)")
     for s, style in _engine_line_styles(series):
         label = f"{s['engine']} · {s['scene']} · {s['bodies']}" + (f" · {s['setting']}" if s["setting"] else "")
-        axes.plot(s["workers"], s["speedup"], style, marker="o", ms=5, color=engine_colour(s["engine"]), lw=1.8,
-                  label=label)
+        colour = engine_colour(s["engine"])
+        axes.plot(s["workers"], s["speedup"], style, marker="o", ms=5, color=colour, lw=1.8, label=label)
+        # Each point's 95% interval, where its rounds were paired with the 1-worker point's.
+        bars = [(w, v, v - low, high - v) for w, v, low, high in
+                zip(s["workers"], s["speedup"], s["speedup_low"], s["speedup_high"]) if math.isfinite(low)]
+        if bars:
+            workers, values, below, above = zip(*bars)
+            axes.errorbar(workers, values, yerr=[below, above], fmt="none", ecolor=colour, elinewidth=1.2, capsize=3)
     axes.xaxis.set_major_locator(ticker.MaxNLocator(integer=True))
     axes.set_xlim(0.8, most + 0.2)
     axes.set_ylim(0, max(most, max((v for s in series for v in s["speedup"] if math.isfinite(v)), default=0)) * 1.08)
     axes.set_title("Speedup against workers")
     axes.set_xlabel("workers (threads a step may use)")
-    axes.set_ylabel("speedup: median ms/step at 1 worker / at k")
+    axes.set_ylabel("speedup: ms/step at 1 worker / at k")
     axes.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=1, frameon=False)
     return _save(figure, out_dir, "speedup_workers")
 

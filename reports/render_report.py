@@ -191,19 +191,24 @@ def scaling_section(files, out_dir):
         return note("No sweep over an engine's thread count among the inputs: <code>fx2d-bench sweep SCENE "
                     "--engine fx2d --axis fx2d.workers=1,2,3,4 --out sweep.h5</code> makes one.")
     parts = [figure(charts.speedup(series, out_dir),
-                    "Speedup (median ms/step at 1 worker over that at k) against workers, per engine, scene, size "
-                    "and setting of the other knobs; the dashed line is the ideal, speedup = workers.")]
+                    "Speedup (ms/step at 1 worker over that at k: the median of the rounds' ratios, each round of "
+                    "the two run in the same pass, with its 95% interval; in a merged file the ratio of the medians) "
+                    "against workers, per engine, scene, size and setting of the other knobs; the dashed line is the "
+                    "ideal, speedup = workers.")]
     for engine in dict.fromkeys(s["engine"] for s in series):
         mine = [s for s in series if s["engine"] == engine]
         names = list(dict.fromkeys(name for s in mine for phases in s["phases"] for name, _ in phases))
         rows = []
         for s in mine:
             rows.append(f"{esc(s['scene'])} · {s['bodies']} bodies" + (f" · {esc(s['setting'])}" if s["setting"] else ""))
-            for workers, ms, speed, phases in zip(s["workers"], s["ms"], s["speedup"], s["phases"]):
+            for workers, ms, speed, low, high, phases in zip(s["workers"], s["ms"], s["speedup"], s["speedup_low"],
+                                                              s["speedup_high"], s["phases"]):
                 split = dict(phases)
-                rows.append([str(workers), f"{ms:.4g}", number(speed)] + [number(split.get(n)) for n in names])
+                interval = f"{number(low)}–{number(high)}" if math.isfinite(low) else number(low)
+                rows.append([str(workers), f"{ms:.4g}", number(speed), interval] + [number(split.get(n)) for n in names])
         parts.append(f"<h3>{chip(engine)} phase split per {esc(mine[0]['knob'])} count</h3>")
-        parts.append(table([esc(mine[0]["knob"]), "ms/step", "speedup"] + [f"{esc(n)} ms" for n in names], rows))
+        parts.append(table([esc(mine[0]["knob"]), "ms/step", "speedup", "95% CI"] + [f"{esc(n)} ms" for n in names],
+                           rows))
     return "".join(parts)
 
 

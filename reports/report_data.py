@@ -212,6 +212,12 @@ def read_h5(path, label):
         raise InputProblem(f"{path}: missing member {error}") from None
 
 
+# The bootstrap intervals the report works out: compare's resample count and seed, so a re-render
+# draws the same resamples.
+BOOTSTRAP_RESAMPLES = 2000
+BOOTSTRAP_SEED = 0x6678326462656E63
+
+
 # --- scaling with workers (a sweep over an engine's thread count) ----------------------------------
 
 # The knob names that count an engine's threads: Fx2D's `workers`, Chipmunk2D's `threads`.
@@ -227,12 +233,28 @@ def _worker_column(sweep, engine, rows):
     return None
 
 
+def _paired_speedup(one_worker, k_workers, rng):
+    """The median over rounds r of one_worker[r] / k_workers[r], with a 95% percentile bootstrap
+    interval that resamples the rounds (the sweep's cost_vs_default, sweep_grid.h, turned over)."""
+    ratios = np.asarray(one_worker, dtype=float) / np.asarray(k_workers, dtype=float)
+    resampled = np.median(rng.choice(ratios, size=(BOOTSTRAP_RESAMPLES, len(ratios))), axis=1)
+    return float(np.median(ratios)), float(np.percentile(resampled, 2.5)), float(np.percentile(resampled, 97.5))
+
+
 def worker_scaling(sweep, sweep_runs):
     """One series per engine, scene, size and setting of the other knobs of a sweep whose points
-    differ in a thread-count knob: workers ascending, each point's median ms/step, its speedup
-    (median ms/step at 1 worker over that at k; NaN without a 1-worker point) and its phase split
-    (the point's run's [(phase, median ms)], empty for an engine that reports none)."""
+    differ in a thread-count knob: workers ascending, each point's median ms/step, its speedup over
+    the series' 1-worker point with a 95% interval, and its phase split (the point's run's
+    [(phase, median ms)], empty for an engine that reports none).
+    The points of one engine on one scene take their repeats in rounds, one repeat of each per pass,
+    so round r of the 1-worker point and of the k-worker point ran in the same pass: the speedup is
+    the median of the rounds' ratios, as `sweep`'s cost against its default, and the drift of the
+    machine cancels in each. A merged file's points may come from shards that ran apart, so there
+    (and for points with other round counts) it is the ratio of the medians, with no interval.
+    NaN without a 1-worker point."""
     c = sweep.columns
+    paired = "merged_shards" not in sweep.attributes
+    rng = np.random.default_rng(BOOTSTRAP_SEED)
     series = {}
     for engine in dict.fromkeys(c["engine"]):
         mine = [r for r in range(len(sweep)) if c["engine"][r] == engine]
@@ -246,14 +268,23 @@ def worker_scaling(sweep, sweep_runs):
             entry = series.setdefault(key, {"engine": engine, "scene": c["scene"][r], "bodies": int(c["bodies"][r]),
                                             "setting": setting, "knob": column[len(engine) + 1:], "points": []})
             run = sweep_runs[int(c["run"][r])] if int(c["run"][r]) < len(sweep_runs) else None
-            entry["points"].append((int(c[column][r]), float(c["ms_per_step"][r]), run.phases if run else []))
+            entry["points"].append((int(c[column][r]), float(c["ms_per_step"][r]), run))
     for entry in series.values():
         entry["points"].sort(key=lambda point: point[0])
-        one = [ms for workers, ms, _ in entry["points"] if workers == 1]
+        one = [(ms, run) for workers, ms, run in entry["points"] if workers == 1]
         entry["workers"] = [workers for workers, _, _ in entry["points"]]
         entry["ms"] = [ms for _, ms, _ in entry["points"]]
-        entry["speedup"] = [one[0] / ms if one and ms > 0 else float("nan") for ms in entry["ms"]]
-        entry["phases"] = [phases for _, _, phases in entry.pop("points")]
+        entry["speedup"], entry["speedup_low"], entry["speedup_high"] = [], [], []
+        for _, ms, run in entry["points"]:
+            if not one or ms <= 0:
+                speedup = (float("nan"),) * 3
+            elif paired and run and one[0][1] and len(run.repeat_ms) == len(one[0][1].repeat_ms) > 0:
+                speedup = _paired_speedup(one[0][1].repeat_ms, run.repeat_ms, rng)
+            else:
+                speedup = (one[0][0] / ms, float("nan"), float("nan"))
+            for name, value in zip(("speedup", "speedup_low", "speedup_high"), speedup):
+                entry[name].append(value)
+        entry["phases"] = [run.phases if run else [] for _, _, run in entry.pop("points")]
     # The scene's default setting, measured at its own worker count alone, is no series.
     return [entry for entry in series.values() if len(entry["workers"]) > 1]
 
@@ -261,16 +292,14 @@ def worker_scaling(sweep, sweep_runs):
 # --- A/B inside one run file (`fx2d-bench ab --out`: engines X@A and X@B) ----------------------------
 
 AB_NOISE = 0.02            # compare's default band: ratios within 1 +- 2% are no change
-AB_RESAMPLES = 2000
-AB_SEED = 0x6678326462656E63  # compare's seed, so a re-render draws the same resamples
 
 
 def _bootstrap_ratio(a, b, rng):
     """Ratio of medians b/a with a 95% percentile bootstrap interval (compare's method, numpy's
     generator: the interval is close to compare's, not identical)."""
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    resampled_a = np.median(rng.choice(a, size=(AB_RESAMPLES, len(a))), axis=1)
-    resampled_b = np.median(rng.choice(b, size=(AB_RESAMPLES, len(b))), axis=1)
+    resampled_a = np.median(rng.choice(a, size=(BOOTSTRAP_RESAMPLES, len(a))), axis=1)
+    resampled_b = np.median(rng.choice(b, size=(BOOTSTRAP_RESAMPLES, len(b))), axis=1)
     ratios = resampled_b / resampled_a
     return float(np.median(b) / np.median(a)), float(np.percentile(ratios, 2.5)), float(np.percentile(ratios, 97.5))
 
@@ -291,7 +320,7 @@ def ab_rows(runs):
     ci_high, speed, verdict) for every (engine, scene, bodies) run as both X@A and X@B in one file:
     the step time and each phase, B against A."""
     by_key = {(r.source, r.engine, r.scene, r.bodies): r for r in runs}
-    rng = np.random.default_rng(AB_SEED)
+    rng = np.random.default_rng(BOOTSTRAP_SEED)
     rows = []
     for (source, engine, scene, bodies), run_a in by_key.items():
         base, _, side = engine.rpartition("@")

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "storage/file_integrity.h"
+#include "storage/results_h5.h"
 
 namespace {
 
@@ -402,13 +403,16 @@ std::string g_format(double value, int digits) {
 }  // namespace
 
 // A sweep that varies only fx2d.workers gives the speedup chart, and each point's row in the phase
-// split table carries its workers, its ms/step and the speedup computed from the sweep's own medians.
-TEST_F(ReportOfWorkerSweep, DrawsSpeedupAgainstWorkersFromTheSweepsMedians) {
+// split table carries its workers, its ms/step and its speedup with an interval: the median over
+// the rounds of the 1-worker point's round time over this point's (the two ran each round in the
+// same pass), worked out again here from the steps the file keeps.
+TEST_F(ReportOfWorkerSweep, DrawsSpeedupAgainstWorkersFromPairedRounds) {
   const fs::path file = scratch_ / "workers.h5";
-  const Outcome swept = shell(bench("sweep pile --bodies 36 --steps 30 --repeats 1 --engine fx2d"
-                                    " --fx2d-substeps 2 --fx2d-passes 1 --axis fx2d.workers=1,2,3 --json --out " +
-                                    file.string()),
-                              scratch_);
+  const Outcome swept =
+      shell(bench("sweep pile --bodies 36 --steps 30 --repeats 3 --engine fx2d"
+                  " --fx2d-substeps 2 --fx2d-passes 1 --axis fx2d.workers=1,2,3 --json --out " +
+                  file.string()),
+            scratch_);
   ASSERT_EQ(swept.exit_code, 0) << swept.err;
   const Outcome reported =
       shell(bench("report " + file.string() + " -o " + (scratch_ / "out").string()), scratch_);
@@ -417,19 +421,40 @@ TEST_F(ReportOfWorkerSweep, DrawsSpeedupAgainstWorkersFromTheSweepsMedians) {
   const std::vector<std::string> sources = image_sources(html);
   EXPECT_NE(std::find(sources.begin(), sources.end(), "speedup_workers.png"), sources.end());
   EXPECT_EQ(read_text(scratch_ / "out" / "speedup_workers.png").substr(0, 8), "\x89PNG\r\n\x1a\n");
-  std::map<int, double> ms_by_workers;
+  // Per worker count: the point's ms/step and each round's mean step time (point i is /runs/i).
+  std::map<int, std::pair<double, std::vector<double>>> by_workers;
   const nlohmann::json points = nlohmann::json::parse(swept.out).at("points");
-  for (const nlohmann::json& point : points) {
-    const nlohmann::json& settings = point.at("settings");
-    if (settings.at("substeps") == 2)
-      ms_by_workers[settings.at("workers").get<int>()] = point.at("ms_per_step").at("median").get<double>();
+  const fxbench::ResultSet runs = fxbench::read_results_h5(file.string());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const nlohmann::json& settings = points[i].at("settings");
+    if (settings.at("substeps") != 2) continue;
+    const fxbench::RunRecord& run = runs.runs.at(i);
+    std::vector<double> rounds(static_cast<std::size_t>(run.repeats), 0.0);
+    for (std::size_t k = 0; k < run.wall_ms.size(); ++k)
+      rounds[k / static_cast<std::size_t>(run.steps)] += run.wall_ms[k];
+    for (double& round : rounds) round /= run.steps;
+    by_workers[settings.at("workers").get<int>()] = {points[i].at("ms_per_step").at("median").get<double>(),
+                                                     rounds};
   }
-  ASSERT_EQ(ms_by_workers.size(), 3u);
+  ASSERT_EQ(by_workers.size(), 3u);
   EXPECT_NE(html.find("\">pile · 36 bodies · substeps 2, velocity_passes 1</td>"), std::string::npos)
       << "one series: the swept setting (the default point, alone at its workers, is none)";
-  for (const auto& [workers, ms] : ms_by_workers) {
+  const std::vector<double>& one_worker = by_workers.at(1).second;
+  for (const auto& [workers, figures] : by_workers) {
+    const auto& [ms, rounds] = figures;
+    std::vector<double> ratios;
+    for (std::size_t k = 0; k < rounds.size(); ++k) ratios.push_back(one_worker[k] / rounds[k]);
+    std::sort(ratios.begin(), ratios.end());
     const std::string row = "<tr><td>" + std::to_string(workers) + "</td><td>" + g_format(ms, 4) +
-                            "</td><td>" + g_format(ms_by_workers.at(1) / ms, 3) + "</td><td>";
-    EXPECT_NE(html.find(row), std::string::npos) << row;
+                            "</td><td>" + g_format(ratios[1], 3) + "</td><td>";
+    const std::size_t found = html.find(row);
+    ASSERT_NE(found, std::string::npos) << row;
+    // The interval, a bootstrap of medians of these three ratios, lies within them.
+    const std::size_t start = found + row.size();
+    const std::string interval = html.substr(start, html.find("</td>", start) - start);
+    const std::size_t dash = interval.find("\u2013");
+    ASSERT_NE(dash, std::string::npos) << interval;
+    EXPECT_GE(std::stod(interval.substr(0, dash)), std::stod(g_format(ratios[0], 3)) - 1e-12) << interval;
+    EXPECT_LE(std::stod(interval.substr(dash + 3)), std::stod(g_format(ratios[2], 3)) + 1e-12) << interval;
   }
 }
