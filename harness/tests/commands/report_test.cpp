@@ -458,3 +458,38 @@ TEST_F(ReportOfWorkerSweep, DrawsSpeedupAgainstWorkersFromPairedRounds) {
     EXPECT_LE(std::stod(interval.substr(dash + 3)), std::stod(g_format(ratios[2], 3)) + 1e-12) << interval;
   }
 }
+
+// A merged sweep's points may come from shards that ran apart, whose rounds pair nothing: there
+// the speedup is the ratio of the points' medians, and its interval cell says there is none.
+TEST_F(ReportOfWorkerSweep, AMergedSweepsSpeedupIsTheRatioOfTheMediansWithNoInterval) {
+  const std::string sweep =
+      "sweep pile --bodies 36 --steps 30 --repeats 3 --engine fx2d --fx2d-substeps 2"
+      " --fx2d-passes 1 --axis fx2d.workers=1,2,3 --json --out ";
+  std::map<int, double> ms_by_workers;
+  for (const char* shard : {"1/2", "2/2"}) {
+    const fs::path part = scratch_ / (std::string("part") + shard[0] + ".h5");
+    const Outcome swept = shell(bench(sweep + part.string() + " --shard " + shard), scratch_);
+    ASSERT_EQ(swept.exit_code, 0) << swept.err;
+    const nlohmann::json printed = nlohmann::json::parse(swept.out);
+    for (const nlohmann::json& point : printed.at("points")) {
+      const nlohmann::json& settings = point.at("settings");
+      if (settings.at("substeps") == 2)
+        ms_by_workers[settings.at("workers").get<int>()] = point.at("ms_per_step").at("median").get<double>();
+    }
+  }
+  ASSERT_EQ(ms_by_workers.size(), 3u);
+  const fs::path merged = scratch_ / "merged.h5";
+  const Outcome merging = shell(bench("merge " + merged.string() + " " + (scratch_ / "part1.h5").string() +
+                                      " " + (scratch_ / "part2.h5").string()),
+                                scratch_);
+  ASSERT_EQ(merging.exit_code, 0) << merging.err;
+  const Outcome reported =
+      shell(bench("report " + merged.string() + " -o " + (scratch_ / "out").string()), scratch_);
+  ASSERT_EQ(reported.exit_code, 0) << reported.err;
+  const std::string html = read_text(scratch_ / "out" / "index.html");
+  for (const auto& [workers, ms] : ms_by_workers) {
+    const std::string row = "<tr><td>" + std::to_string(workers) + "</td><td>" + g_format(ms, 4) +
+                            "</td><td>" + g_format(ms_by_workers.at(1) / ms, 3) + "</td><td>\u2013</td>";
+    EXPECT_NE(html.find(row), std::string::npos) << row;
+  }
+}
