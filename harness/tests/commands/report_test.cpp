@@ -393,6 +393,13 @@ using ReportOfWorkerSweep = ReportRefusals;
 
 namespace {
 
+// The page `report FILE -o SCRATCH/out` writes; a failed report fails the test.
+std::string reported_page(const fs::path& file, const fs::path& scratch) {
+  const Outcome reported = shell(bench("report " + file.string() + " -o " + (scratch / "out").string()), scratch);
+  EXPECT_EQ(reported.exit_code, 0) << reported.err;
+  return read_text(scratch / "out" / "index.html");
+}
+
 // "%.Ng" as the report writes numbers (Python's format "g" and C's agree).
 std::string g_format(double value, int digits) {
   char text[32];
@@ -414,10 +421,7 @@ TEST_F(ReportOfWorkerSweep, DrawsSpeedupAgainstWorkersFromPairedRounds) {
                   file.string()),
             scratch_);
   ASSERT_EQ(swept.exit_code, 0) << swept.err;
-  const Outcome reported =
-      shell(bench("report " + file.string() + " -o " + (scratch_ / "out").string()), scratch_);
-  ASSERT_EQ(reported.exit_code, 0) << reported.err;
-  const std::string html = read_text(scratch_ / "out" / "index.html");
+  const std::string html = reported_page(file, scratch_);
   const std::vector<std::string> sources = image_sources(html);
   EXPECT_NE(std::find(sources.begin(), sources.end(), "speedup_workers.png"), sources.end());
   EXPECT_EQ(read_text(scratch_ / "out" / "speedup_workers.png").substr(0, 8), "\x89PNG\r\n\x1a\n");
@@ -483,10 +487,7 @@ TEST_F(ReportOfWorkerSweep, AMergedSweepsSpeedupIsTheRatioOfTheMediansWithNoInte
                                       " " + (scratch_ / "part2.h5").string()),
                                 scratch_);
   ASSERT_EQ(merging.exit_code, 0) << merging.err;
-  const Outcome reported =
-      shell(bench("report " + merged.string() + " -o " + (scratch_ / "out").string()), scratch_);
-  ASSERT_EQ(reported.exit_code, 0) << reported.err;
-  const std::string html = read_text(scratch_ / "out" / "index.html");
+  const std::string html = reported_page(merged, scratch_);
   for (const auto& [workers, ms] : ms_by_workers) {
     const std::string row = "<tr><td>" + std::to_string(workers) + "</td><td>" + g_format(ms, 4) +
                             "</td><td>" + g_format(ms_by_workers.at(1) / ms, 3) + "</td><td>\u2013</td>";
