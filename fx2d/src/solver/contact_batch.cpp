@@ -190,11 +190,13 @@ FX2D_LANE_INLINE void store(FxBodyState& s, const LaneBody& body) {
 template <LaneFn LaneSolve>
 FX2D_LANE_INLINE void run_serial(ContactBatch& k, FxBodyState* states, const ContactSolveParams& p) {
   for (int lane = 0; lane < lane_count; ++lane) {
-    LaneBody a = load(states[k.body_a[lane]]);
-    LaneBody b = load(states[k.body_b[lane]]);
+    FxBodyState& state_a = states[state_index(k.state_a[lane])];
+    FxBodyState& state_b = states[state_index(k.state_b[lane])];
+    LaneBody a = load(state_a);
+    LaneBody b = load(state_b);
     LaneSolve(k, lane, a, b, p);
-    store(states[k.body_a[lane]], a);
-    store(states[k.body_b[lane]], b);
+    store(state_a, a);
+    store(state_b, b);
   }
 }
 
@@ -208,8 +210,8 @@ struct LaneVelocities {
 FX2D_LANE_INLINE void gather_velocities(const ContactBatch& k, const FxBodyState* __restrict states,
                                         LaneVelocities& v) {
   LaneColumns a_side, b_side;
-  gather_columns<velocity_row>(states, k.body_a, a_side);
-  gather_columns<velocity_row>(states, k.body_b, b_side);
+  gather_columns<velocity_row, BodyList::offsets>(states, k.state_a, a_side);
+  gather_columns<velocity_row, BodyList::offsets>(states, k.state_b, b_side);
   to_lanes(a_side.c0, v.avx), to_lanes(a_side.c1, v.avy), to_lanes(a_side.c2, v.aw);
   to_lanes(b_side.c0, v.bvx), to_lanes(b_side.c1, v.bvy), to_lanes(b_side.c2, v.bw);
   v.a_flags = a_side.c3, v.b_flags = b_side.c3;
@@ -224,8 +226,8 @@ FX2D_LANE_INLINE void scatter_velocities(const ContactBatch& k, FxBodyState* __r
   from_lanes(v.avx, a_side.c0), from_lanes(v.avy, a_side.c1), from_lanes(v.aw, a_side.c2);
   from_lanes(v.bvx, b_side.c0), from_lanes(v.bvy, b_side.c1), from_lanes(v.bw, b_side.c2);
   a_side.c3 = v.a_flags, b_side.c3 = v.b_flags;
-  scatter_columns<velocity_row, Shared>(states, k.body_a, a_side);
-  scatter_columns<velocity_row, Shared>(states, k.body_b, b_side);
+  scatter_columns<velocity_row, Shared, BodyList::offsets>(states, k.state_a, a_side);
+  scatter_columns<velocity_row, Shared, BodyList::offsets>(states, k.state_b, b_side);
 }
 
 // Lane `lane` of one batch, on velocities gathered into `v`.
@@ -276,8 +278,8 @@ struct LanePoses {
 FX2D_LANE_INLINE void gather_poses(const ContactBatch& __restrict k, const FxBodyState* __restrict states,
                                    LanePoses& __restrict q) {
   LaneColumns a, b;
-  gather_columns<pose_row>(states, k.body_a, a);
-  gather_columns<pose_row>(states, k.body_b, b);
+  gather_columns<pose_row, BodyList::offsets>(states, k.state_a, a);
+  gather_columns<pose_row, BodyList::offsets>(states, k.state_b, b);
   to_lanes(b.c0 - a.c0, q.dpx), to_lanes(b.c1 - a.c1, q.dpy);
   to_lanes(a.c2, q.aqc), to_lanes(a.c3, q.aqs), to_lanes(b.c2, q.bqc), to_lanes(b.c3, q.bqs);
 }

@@ -7,7 +7,7 @@
 //   once (as may the lanes of two batches of one colour, which the sweeps pair up); overflow
 //   batches, whose lanes may share bodies, are solved lane by lane in order;
 // - every lane of a batch has the same point count (one- and two-point manifolds are packed in
-//   separate runs), and unused lanes point at the padding body with zero masses, so they change
+//   separate runs), and unused lanes point at the padding body's state with zero masses, so they change
 //   nothing;
 // - each row's Jacobian (lever arms, inverse mass and inertia times the direction) is worked out
 //   once per step by pack(), so a pass only multiplies it by the bodies' velocities: the rows of
@@ -87,8 +87,10 @@ struct PointColumns {
 };
 
 struct alignas(32) ContactBatch {
-  std::uint32_t body_a[lane_count];
-  std::uint32_t body_b[lane_count];
+  // Each lane's bodies, as the byte offsets of their states among the solver's states
+  // (state_offset(): the passes address a state with no shift).
+  std::uint32_t state_a[lane_count];
+  std::uint32_t state_b[lane_count];
   float normal_x[lane_count];
   float normal_y[lane_count];
   // Each body's inverse mass times the normal: an impulse along the normal changes its velocity

@@ -54,8 +54,8 @@ struct LaneInputs {
 template <int Points>
 void gather_lane(ContactBatch& k, LaneInputs& in, int lane, const ConstraintSource& source,
                  const CachedContact& contact, const Bodies& bodies) {
-  k.body_a[lane] = source.body_a;
-  k.body_b[lane] = source.body_b;
+  k.state_a[lane] = state_offset(source.body_a);
+  k.state_b[lane] = state_offset(source.body_b);
   k.normal_x[lane] = contact.manifold.normal.x;
   k.normal_y[lane] = contact.manifold.normal.y;
   k.normal_frame[lane] = static_cast<std::int32_t>(contact.manifold.normal_frame);
@@ -105,13 +105,14 @@ struct SideInputs {
   float* inv_mass;
 };
 
-// One side's bodies (`batch_body`, `count` of them; lane 0's stands in for the padding body, which
+// One side's bodies (`batch_state`, `count` of them; lane 0's stands in for the padding body, which
 // has no sim) as rows of their sims turned into columns: three row gathers instead of eleven
 // single-float copies per lane.
-FX2D_LANE_INLINE void gather_side(const BodySim* __restrict sims, const std::uint32_t* batch_body, int count,
+FX2D_LANE_INLINE void gather_side(const BodySim* __restrict sims, const std::uint32_t* batch_state, int count,
                                   const SideInputs& side) {
   std::uint32_t body[lane_count];
-  for (int lane = 0; lane < lane_count; ++lane) body[lane] = batch_body[lane < count ? lane : 0];
+  for (int lane = 0; lane < lane_count; ++lane)
+    body[lane] = state_index(batch_state[lane < count ? lane : 0]);
   LaneColumns place, turn, velocity;
   gather_columns<sim_place_row>(sims, body, place);
   gather_columns<sim_turn_row>(sims, body, turn);
@@ -135,12 +136,14 @@ FX2D_LANE_INLINE void gather_side(const BodySim* __restrict sims, const std::uin
 // derive_points().
 FX2D_LANE_KERNEL void gather_bodies(ContactBatch& __restrict k, LaneInputs& __restrict in, int count,
                                     const BodySim* __restrict sims) {
-  gather_side(sims, k.body_a, count,
-              {in.rotation_ac, in.rotation_as, in.local_center_ax, in.local_center_ay, in.origin_ax, in.origin_ay,
-               in.carry_ax, in.carry_ay, in.velocity_ax, in.velocity_ay, in.spin_a, k.inv_mass_a});
-  gather_side(sims, k.body_b, count,
-              {in.rotation_bc, in.rotation_bs, in.local_center_bx, in.local_center_by, in.origin_bx, in.origin_by,
-               in.carry_bx, in.carry_by, in.velocity_bx, in.velocity_by, in.spin_b, k.inv_mass_b});
+  gather_side(
+      sims, k.state_a, count,
+      {in.rotation_ac, in.rotation_as, in.local_center_ax, in.local_center_ay, in.origin_ax, in.origin_ay,
+       in.carry_ax, in.carry_ay, in.velocity_ax, in.velocity_ay, in.spin_a, k.inv_mass_a});
+  gather_side(
+      sims, k.state_b, count,
+      {in.rotation_bc, in.rotation_bs, in.local_center_bx, in.local_center_by, in.origin_bx, in.origin_by,
+       in.carry_bx, in.carry_by, in.velocity_bx, in.velocity_by, in.spin_b, k.inv_mass_b});
 }
 
 // Per lane, from the inputs gather_lane() wrote: the anchors (the points moved from body a's
@@ -281,8 +284,8 @@ void ContactBatches::build_batch(int index, std::span<const ConstraintSource> co
   if (members.count < lane_count) {
     k = ContactBatch{};
     inputs = LaneInputs{};
-    std::fill(std::begin(k.body_a) + members.count, std::end(k.body_a), padding_body);
-    std::fill(std::begin(k.body_b) + members.count, std::end(k.body_b), padding_body);
+    std::fill(std::begin(k.state_a) + members.count, std::end(k.state_a), state_offset(padding_body));
+    std::fill(std::begin(k.state_b) + members.count, std::end(k.state_b), state_offset(padding_body));
   }
   const int points = constraints[members.first[0]].point_count;
   for (int lane = 0; lane < members.count; ++lane) {

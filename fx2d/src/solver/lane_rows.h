@@ -75,11 +75,35 @@ struct LaneColumns {
   LaneColumn c0, c1, c2, c3;
 };
 
+// How a list names the bodies whose records a gather or a scatter reads: by index, or by the byte
+// offset of the record (its index times the record's size), which the address takes as it is
+// where an index of a 32-byte record needs a shift first (ContactBatch keeps offsets).
+enum class BodyList { indices, offsets };
+
+// The byte offset of body `index`'s state among the solver's states.
+constexpr std::uint32_t state_offset(std::uint32_t index) {
+  return index * static_cast<std::uint32_t>(sizeof(FxBodyState));
+}
+constexpr std::uint32_t state_index(std::uint32_t offset) {
+  return offset / static_cast<std::uint32_t>(sizeof(FxBodyState));
+}
+
+// Where the record of the body `body` names starts.
+template <BodyList List, typename Record>
+FX2D_LANE_INLINE auto* record_bytes(Record* records, std::uint32_t body) {
+  using Byte = std::conditional_t<std::is_const_v<Record>, const unsigned char, unsigned char>;
+  if constexpr (List == BodyList::offsets) {
+    return reinterpret_cast<Byte*>(records) + body;
+  } else {
+    return reinterpret_cast<Byte*>(records + body);
+  }
+}
+
 // Row `Row` (a byte offset) of a body's record: an FxBodyState, or any record with 16-byte rows.
-template <std::size_t Row, typename Record>
-FX2D_LANE_INLINE LaneRow load_row(const Record& record) {
+template <std::size_t Row>
+FX2D_LANE_INLINE LaneRow load_row(const unsigned char* record) {
   LaneRow row;
-  std::memcpy(&row, reinterpret_cast<const unsigned char*>(&record) + Row, sizeof row);
+  std::memcpy(&row, record + Row, sizeof row);
   return row;
 }
 
@@ -88,13 +112,14 @@ FX2D_LANE_INLINE LaneRow load_row(const Record& record) {
 // pairs), as the 256-bit unpack and shuffle instructions work, so no shuffle crosses the halves.
 // Written out, not in helper functions: a 32-byte vector passed by value changes the ABI between
 // the AVX2 and default clones, and so does `c` returned instead of filled.
-template <std::size_t Row, typename Record>
+template <std::size_t Row, BodyList List = BodyList::indices, typename Record>
 FX2D_LANE_INLINE void gather_columns(const Record* __restrict states, const std::uint32_t* body,
                                      LaneColumns& c) {
   LaneColumn r[4];
   for (int i = 0; i < 4; ++i) {
-    r[i] = __builtin_shufflevector(load_row<Row>(states[body[i]]), load_row<Row>(states[body[i + 4]]), 0, 1, 2, 3, 4,
-                                   5, 6, 7);
+    r[i] = __builtin_shufflevector(load_row<Row>(record_bytes<List>(states, body[i])),
+                                   load_row<Row>(record_bytes<List>(states, body[i + 4])), 0, 1, 2, 3, 4, 5,
+                                   6, 7);
   }
   const LaneColumn t0 = __builtin_shufflevector(r[0], r[1], 0, 8, 1, 9, 4, 12, 5, 13);
   const LaneColumn t1 = __builtin_shufflevector(r[0], r[1], 2, 10, 3, 11, 6, 14, 7, 15);
@@ -106,9 +131,9 @@ FX2D_LANE_INLINE void gather_columns(const Record* __restrict states, const std:
   c.c3 = __builtin_shufflevector(t1, t3, 2, 3, 10, 11, 6, 7, 14, 15);
 }
 
-template <std::size_t Row, typename Record>
-FX2D_LANE_INLINE void store_row(Record& record, const unsigned char* row) {
-  std::memcpy(reinterpret_cast<unsigned char*>(&record) + Row, row, sizeof(LaneRow));
+template <std::size_t Row>
+FX2D_LANE_INLINE void store_row(unsigned char* record, const unsigned char* row) {
+  std::memcpy(record + Row, row, sizeof(LaneRow));
 }
 
 // FxBodyState::flags of a body whose state contacts change (a dynamic, awake one); zero for the
@@ -127,7 +152,7 @@ FX2D_LANE_INLINE bool is_movable_row(const unsigned char* row) {
 // the rows are written in the order 0, 4, 1, 5, ... With `MovableOnly` (velocity rows only), the
 // rows of bodies without movable_flag, which those shared lanes carry unchanged, are not written
 // at all: other threads may be reading or writing those same bodies at once.
-template <std::size_t Row, bool MovableOnly = false, typename Record>
+template <std::size_t Row, bool MovableOnly = false, BodyList List = BodyList::indices, typename Record>
 FX2D_LANE_INLINE void scatter_columns(Record* __restrict states, const std::uint32_t* body,
                                       const LaneColumns& c) {
   static_assert(!MovableOnly || (Row == velocity_row && std::is_same_v<Record, FxBodyState>),
@@ -147,8 +172,8 @@ FX2D_LANE_INLINE void scatter_columns(Record* __restrict states, const std::uint
     // shuffling the upper half down first cost an extra instruction per row.
     const auto* halves = reinterpret_cast<const unsigned char*>(&rows[i]);
     const unsigned char* upper = halves + sizeof(LaneRow);
-    if (!MovableOnly || is_movable_row(halves)) store_row<Row>(states[body[i]], halves);
-    if (!MovableOnly || is_movable_row(upper)) store_row<Row>(states[body[i + 4]], upper);
+    if (!MovableOnly || is_movable_row(halves)) store_row<Row>(record_bytes<List>(states, body[i]), halves);
+    if (!MovableOnly || is_movable_row(upper)) store_row<Row>(record_bytes<List>(states, body[i + 4]), upper);
   }
 }
 
