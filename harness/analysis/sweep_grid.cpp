@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <unordered_map>
 
 #include "analysis/summary.h"
 
@@ -99,17 +100,20 @@ std::vector<double> round_costs(const RunRecord& run, double dt) {
 }  // namespace
 
 void compare_with_defaults(Sweep& sweep) {
+  // Each front's default, looked up once rather than searched for from every point.
+  std::unordered_map<int, std::size_t> default_of;
+  for (std::size_t i = 0; i < sweep.points.size(); ++i) {
+    if (sweep.points[i].grid.is_default) default_of.try_emplace(sweep.points[i].pareto_group, i);
+  }
   for (PointResult& point : sweep.points) {
     point.vs_default.reset();
-    const auto is_its_default = [&](const PointResult& other) {
-      return other.grid.is_default && other.pareto_group == point.pareto_group;
-    };
-    const auto found = std::ranges::find_if(sweep.points, is_its_default);
-    if (found == sweep.points.end()) continue;
+    const auto found = default_of.find(point.pareto_group);
+    if (found == default_of.end()) continue;
+    const PointResult& its_default = sweep.points[found->second];
     const RunRecord& run = sweep.results.runs[point.run];
-    const RunRecord& default_run = sweep.results.runs[found->run];
+    const RunRecord& default_run = sweep.results.runs[its_default.run];
     if (run.repeats != default_run.repeats || run.repeats == 0) continue;
-    point.vs_default = bootstrap_paired_median_ratio(round_costs(default_run, found->grid.dt),
+    point.vs_default = bootstrap_paired_median_ratio(round_costs(default_run, its_default.grid.dt),
                                                      round_costs(run, point.grid.dt));
   }
 }
