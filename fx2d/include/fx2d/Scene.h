@@ -122,6 +122,10 @@ struct FxSceneSettings {
   FxTaskScheduler scheduler;
 };
 
+// The most entities a scene holds: the solver addresses each body's 32-byte state by a 32-bit byte
+// offset, one past the last body included.
+inline constexpr std::uint32_t fx_max_entities = (std::uint32_t{1} << 27) - 1;
+
 class FxScene {
  public:
   // Throws FxInvalidArgument naming the field: non-finite gravity, dt <= 0, substeps < 1, ...
@@ -131,7 +135,8 @@ class FxScene {
   FxScene& operator=(const FxScene&) = delete;
 
   // Adds an entity. Throws FxInvalidArgument naming the field for non-finite pose or velocity,
-  // density <= 0 on a dynamic body, negative friction, restitution outside 0..1, negative damping.
+  // density <= 0 on a dynamic body, negative friction, restitution outside 0..1, negative damping,
+  // and when the scene already holds fx_max_entities.
   std::shared_ptr<FxEntity> create_entity(const FxEntityDef& def);
   // Removes an entity and its contacts and constraints; wakes what touched it. Allowed at any
   // time outside step(), including from the step callback. Other handles stay valid.

@@ -14,6 +14,7 @@
 #include <type_traits>
 
 #include "fx2d/Constraint.h"
+#include "fx2d/Scene.h"
 #include "world/bodies.h"
 
 namespace fx2d::detail {
@@ -80,7 +81,10 @@ struct LaneColumns {
 // where an index of a 32-byte record needs a shift first (ContactBatch keeps offsets).
 enum class BodyList { indices, offsets };
 
-// The byte offset of body `index`'s state among the solver's states.
+// The byte offset of body `index`'s state among the solver's states. The padding state, one past
+// the last body, has the largest.
+static_assert(std::uint64_t{fx_max_entities} * sizeof(FxBodyState) <= std::uint64_t{UINT32_MAX},
+              "every state's byte offset fits 32 bits");
 constexpr std::uint32_t state_offset(std::uint32_t index) {
   return index * static_cast<std::uint32_t>(sizeof(FxBodyState));
 }

@@ -61,6 +61,10 @@ FxMassData checked_mass(const FxEntityDef& def) {
 }
 
 std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
+  if (bodies_.count() >= fx_max_entities) {
+    throw FxInvalidArgument("FxScene::create_entity: expected a scene of at most " +
+                            std::to_string(fx_max_entities) + " entities");
+  }
   validate(def, settings_);
   const FxMassData mass = def.type == FxBodyType::dynamic ? checked_mass(def) : FxMassData{0.0f, def.shape.centroid(), 0.0f};
   reserve_scratch();
