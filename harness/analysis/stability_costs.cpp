@@ -69,7 +69,7 @@ constexpr PairCost measured_pairs[] = {
     {"thin_wall", "box2d", 0.01, 1000.0},
     {"thin_wall", "ode", 0.01, 6.771277734684464},
     {"thin_wall", "chipmunk", 0.01, 6.771277734684464},
-    {"vertical_stack", "fx2d", 0.06, 116.0},
+    {"vertical_stack", "fx2d", 0.06, 115.0},
     {"vertical_stack", "box2d", 0.07, 31.0},
     {"vertical_stack", "ode", 0.28, 16.0},
     {"vertical_stack", "chipmunk", 0.01, 13.0},

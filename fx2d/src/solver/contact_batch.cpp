@@ -77,10 +77,13 @@ FX2D_LANE_INLINE void warm_start_lane(ContactBatch& __restrict k, int lane, Lane
 // row's impulse then reaches the later rows through their coupling (the change of one row's
 // speed per unit impulse on another, worked out by pack()), and the bodies once at the end. That
 // is the same Gauss-Seidel sweep, but between two rows lie one multiply and one add, not a
-// velocity update and a dot product.
-template <int Points, bool UseBias>
+// velocity update and a dot product. The couplings are symmetric, so either point may go first
+// (PointOrder).
+template <int Points, bool UseBias, PointOrder Order = PointOrder::first_to_last>
 FX2D_LANE_INLINE void solve_lane(ContactBatch& __restrict k, int lane, LaneBody& a, LaneBody& b,
                                  const ContactSolveParams& p) {
+  // Row n of the sweep is point i = leading ^ n: point 0 then 1, or 1 then 0.
+  constexpr int leading = Points == 2 && Order == PointOrder::last_to_first ? 1 : 0;
   const PointRows r = rows_of(k, lane);
   float normal_speed[Points], tangent_speed[Points];
   for (int i = 0; i < Points; ++i) {
@@ -93,7 +96,8 @@ FX2D_LANE_INLINE void solve_lane(ContactBatch& __restrict k, int lane, LaneBody&
   const float bias_rate = p.softness.bias_rate, soft_mass_scale = p.softness.mass_scale;
   const float soft_impulse_scale = p.softness.impulse_scale, max_spring = p.max_spring_speed, inv_h = p.inv_substep_dt;
   float normal_applied[Points], tangent_applied[Points];
-  for (int i = 0; i < Points; ++i) {
+  for (int n = 0; n < Points; ++n) {
+    const int i = leading ^ n;
     const float separation = k.point[i].separation[lane];
     const bool speculative = separation > 0.0f;
     const bool soft = UseBias && !speculative;
@@ -109,7 +113,7 @@ FX2D_LANE_INLINE void solve_lane(ContactBatch& __restrict k, int lane, LaneBody&
     const float speed_to_impulse = -k.point[i].normal_mass[lane] * mass_scale;
     const float offset = speed_to_impulse * bias - impulse_scale * old_impulse;
     float vn = normal_speed[i];
-    if (i == 1) vn += normal_applied[0] * k.normal1_from_normal0[lane];
+    if (n == 1) vn += normal_applied[leading] * k.normal1_from_normal0[lane];
     // The clamp of the accumulated impulse at zero, put on the increment.
     const float applied = max_of(vn * speed_to_impulse + offset, -old_impulse);
     k.point[i].normal_impulse[lane] = old_impulse + applied;
@@ -117,10 +121,11 @@ FX2D_LANE_INLINE void solve_lane(ContactBatch& __restrict k, int lane, LaneBody&
     normal_applied[i] = applied;
   }
   const float friction = k.friction[lane];
-  for (int i = 0; i < Points; ++i) {
+  for (int n = 0; n < Points; ++n) {
+    const int i = leading ^ n;
     float vt = tangent_speed[i];
     for (int j = 0; j < Points; ++j) vt += normal_applied[j] * k.point[i].tangent_from_normal[j][lane];
-    if (i == 1) vt += tangent_applied[0] * k.tangent1_from_tangent0[lane];
+    if (n == 1) vt += tangent_applied[leading] * k.tangent1_from_tangent0[lane];
     const float limit = friction * k.point[i].normal_impulse[lane];
     const float old_impulse = k.point[i].tangent_impulse[lane];
     // The friction cone |accumulated| <= limit, put on the increment likewise.
@@ -256,9 +261,9 @@ FX2D_LANE_INLINE void run_batched(ContactBatch* __restrict k, FxBodyState* __res
   LaneVelocities first, second;
   gather_velocities(k[0], states, first);
   if constexpr (Count == 2) gather_velocities(k[1], states, second);
-  // check-vectorized(40): the lane loop below, in all forty instantiations (warm start, solve
-  // with and without softness, the push and its take-back; one and two points, one and two
-  // batches; on one thread or shared), must be vectorised
+  // check-vectorized(48): the lane loop below, in all forty-eight instantiations (warm start,
+  // solve with and without softness, a two-point solve in either point order, the push and its
+  // take-back; one and two points, one and two batches; on one thread or shared), must be vectorised
   for (int lane = 0; lane < lane_count; ++lane) {
     solve_lane_of<LaneSolve>(k[0], first, lane, p);
     if constexpr (Count == 2) solve_lane_of<LaneSolve>(k[1], second, lane, p);
@@ -495,14 +500,29 @@ FX2D_LANE_KERNEL bool update_run_separations(std::span<const BatchRun> runs, Con
   return any;
 }
 
-FX2D_LANE_KERNEL void solve_runs_biased(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
-                                        const ContactSolveParams& params, bool scalar, bool shared) {
-  sweep_writing<&solve_lane<1, true>, &solve_lane<2, true>>(shared, runs, batches, states, params, scalar);
+template <bool UseBias>
+FX2D_LANE_INLINE void solve_runs(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
+                                 const ContactSolveParams& params, PointOrder order, bool scalar,
+                                 bool shared) {
+  if (order == PointOrder::first_to_last) {
+    sweep_writing<&solve_lane<1, UseBias>, &solve_lane<2, UseBias, PointOrder::first_to_last>>(
+        shared, runs, batches, states, params, scalar);
+  } else {
+    sweep_writing<&solve_lane<1, UseBias>, &solve_lane<2, UseBias, PointOrder::last_to_first>>(
+        shared, runs, batches, states, params, scalar);
+  }
 }
 
-FX2D_LANE_KERNEL void solve_runs_relaxed(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
-                                         const ContactSolveParams& params, bool scalar, bool shared) {
-  sweep_writing<&solve_lane<1, false>, &solve_lane<2, false>>(shared, runs, batches, states, params, scalar);
+FX2D_LANE_KERNEL void solve_runs_biased(std::span<const BatchRun> runs, ContactBatch* batches,
+                                        FxBodyState* states, const ContactSolveParams& params,
+                                        PointOrder order, bool scalar, bool shared) {
+  solve_runs<true>(runs, batches, states, params, order, scalar, shared);
+}
+
+FX2D_LANE_KERNEL void solve_runs_relaxed(std::span<const BatchRun> runs, ContactBatch* batches,
+                                         FxBodyState* states, const ContactSolveParams& params,
+                                         PointOrder order, bool scalar, bool shared) {
+  solve_runs<false>(runs, batches, states, params, order, scalar, shared);
 }
 
 // The runs among `runs` (in batch order) cut to the batches [begin, end), written to `cut`.
@@ -602,13 +622,13 @@ int ContactBatches::first_projection_overlap(std::span<const FxBodyState> states
   return first;
 }
 
-void ContactBatches::resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias,
-                                        bool scalar, const Tasks& tasks) {
+void ContactBatches::resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params,
+                                        bool use_bias, PointOrder order, bool scalar, const Tasks& tasks) {
   sweep_by_colour(tasks, [&](std::span<const BatchRun> runs, bool shared) {
     if (use_bias) {
-      solve_runs_biased(runs, batches_.data(), states.data(), params, scalar, shared);
+      solve_runs_biased(runs, batches_.data(), states.data(), params, order, scalar, shared);
     } else {
-      solve_runs_relaxed(runs, batches_.data(), states.data(), params, scalar, shared);
+      solve_runs_relaxed(runs, batches_.data(), states.data(), params, order, scalar, shared);
     }
   });
 }

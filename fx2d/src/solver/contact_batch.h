@@ -132,6 +132,13 @@ struct BatchRun {
   bool serial = false;  // overflow: lanes may share bodies
 };
 
+// The order in which a velocity pass solves a two-point contact's points. Gauss-Seidel favours
+// the point it solves first: a box resting on two corners takes more of its load on one, and a
+// symmetric stack leans. The substeps alternate the order, so the bias of one undoes the last's
+// (at 6 substeps a ten-box column leaned 4.9 mm in one order; at the default schedule the
+// stacks' largest displacement fell from 2.64 to 2.29 mm with the alternation).
+enum class PointOrder { first_to_last, last_to_first };
+
 // The fewest batches the widest colour needs for the passes to be spread over the workers at all
 // (measured: fx2d/src/README.md).
 inline constexpr std::uint32_t min_parallel_batches = 256;
@@ -162,8 +169,9 @@ class ContactBatches {
   // the next update_separations(), which moves the marks.
   void push(std::span<FxBodyState> states, const ContactSolveParams& params, bool scalar, const Tasks& tasks);
   void take_back_push(std::span<FxBodyState> states, bool scalar, const Tasks& tasks);
-  void resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias, bool scalar,
-                          const Tasks& tasks);
+  // One pass over every contact, soft (use_bias) or rigid, a two-point contact's points in `order`.
+  void resolve_velocities(std::span<FxBodyState> states, const ContactSolveParams& params, bool use_bias,
+                          PointOrder order, bool scalar, const Tasks& tasks);
   // The first constraint (in pack()'s order) with a point that the position projection
   // (ContactSolver::project_positions) would push at `states`, or the constraint count: found
   // batch by batch in lanes, measured as that pass measures, to the bit.

@@ -161,6 +161,8 @@ class Substep {
     for (const auto& constraint : constraints_) constraint->prepare(joints_);
   }
 
+  void set_point_order(PointOrder order) { point_order_ = order; }
+
   void integrate_velocities() {
     step_.clock.switch_to(FxStage::integrate);
     solver_.integration.integrate_velocities(solver_.states, step_.substep_dt, step_.limits, step_.tasks);
@@ -202,7 +204,7 @@ class Substep {
       for (const auto& constraint : constraints_) constraint->evaluate(joints_, use_bias);
     }
     step_.clock.switch_to(stage);
-    solver_.contact_batches.resolve_velocities(solver_.states, step_.contact, use_bias,
+    solver_.contact_batches.resolve_velocities(solver_.states, step_.contact, use_bias, point_order_,
                                                step_.settings.force_scalar_solver, step_.tasks);
   }
 
@@ -210,6 +212,7 @@ class Substep {
   SolverData& solver_;
   const Constraints& constraints_;
   SolverConstraintContext joints_;
+  PointOrder point_order_ = PointOrder::first_to_last;
 };
 
 }  // namespace
@@ -219,6 +222,7 @@ void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& b
   if (solver.integration.moving_bodies().empty() && constraints.empty()) return;
   Substep substep(step, solver, bodies, constraints);
   for (int i = 0; i < step.settings.substeps; ++i) {
+    substep.set_point_order(i % 2 == 0 ? PointOrder::first_to_last : PointOrder::last_to_first);
     substep.integrate_velocities();
     substep.warm_start();
     substep.solve();

