@@ -3,7 +3,8 @@
 // A constraint sees the bodies through FxConstraintContext, which exposes the solver's own body
 // state: velocities, and the position and rotation moved since the step began. Positions are kept
 // relative within a step so that constraints between bodies far from the origin lose no
-// precision. The solver calls, per step: prepare() once; then per substep warm_start() once and
+// precision. The solver calls, per step: prepare() once (where a constraint that warm starts scales
+// its kept impulse by the context's impulse_ratio); then per substep warm_start() once and
 // evaluate() once per velocity pass with use_bias (correct position error) and once more as a
 // relaxation pass without it.
 //
@@ -12,6 +13,7 @@
 // Subclass FxConstraint for a new joint; FxDistanceJoint and FxRevoluteJoint are provided.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 
@@ -39,6 +41,13 @@ struct FxSoftness {
 };
 FxSoftness make_softness(float hertz, float damping_ratio, float substep_dt);
 
+// An impulse kept from the last step for warm starting, as a substep impulse_ratio times as long
+// needs it (FxConstraintContext::impulse_ratio): scaled, or 0 where scaling overflows.
+inline float fx_carried_impulse(float impulse, float impulse_ratio) {
+  const float carried = impulse * impulse_ratio;
+  return std::isfinite(carried) ? carried : 0.0f;
+}
+
 class FxConstraintContext {
  public:
   virtual ~FxConstraintContext() = default;
@@ -52,6 +61,11 @@ class FxConstraintContext {
   virtual FxVec2f local_center(const FxEntity& entity) const = 0;
 
   float substep_dt = 0.0f;      // seconds
+  // substep_dt over the last step's (1 for the first step, and while dt and substeps stay): an
+  // impulse kept from the last step for warm starting was a substep's, and is scaled by it in
+  // prepare() (fx_carried_impulse), so that a joint bearing a load bears it through a change of the
+  // substep length.
+  float impulse_ratio = 1.0f;
   float inv_substep_dt = 0.0f;  // 1/s
   FxSoftness softness;          // joint softness for this substep
   float max_linear_speed = 0.0f;   // m/s, the scene's speed limit for any body

@@ -155,7 +155,9 @@ class FxScene {
   void set_step_callback(std::function<void(FxScene&)> callback);
 
   const FxSceneSettings& settings() const;
-  // Changes solver settings between steps (validated like the constructor's).
+  // Changes solver settings between steps (validated like the constructor's). A new dt or substep
+  // count scales the impulses that contacts and joints carry into the next step by the substep's new
+  // length over its old, as they were a substep's: a resting stack keeps resting.
   void set_settings(const FxSceneSettings& settings);
 
   std::size_t entity_count() const;

@@ -1,6 +1,8 @@
 // The contact cache's slots, free list and per-body edge lists (contact_cache.h).
 #include "collision/contact_cache.h"
 
+#include "fx2d/Constraint.h"
+
 namespace fx2d::detail {
 
 int ContactCache::create(std::uint32_t a, std::uint32_t b, int& head_a, int& head_b) {
@@ -30,6 +32,15 @@ void ContactCache::destroy(int id, int& head_a, int& head_b) {
   contact.touching = false;
   contact.next_edge[0] = free_head_;
   free_head_ = id;
+}
+
+void ContactCache::scale_impulses(float ratio) {
+  for (CachedContact& contact : slots) {
+    for (int i = 0; i < 2; ++i) {
+      contact.normal_impulse[i] = fx_carried_impulse(contact.normal_impulse[i], ratio);
+      contact.tangent_impulse[i] = fx_carried_impulse(contact.tangent_impulse[i], ratio);
+    }
+  }
 }
 
 bool ContactCache::has_pair(int head, std::uint32_t other) const {

@@ -65,6 +65,8 @@ class ContactCache {
   void destroy(int id, int& head_a, int& head_b);
   // True when the body whose list starts at `head` has a contact with `other`.
   bool has_pair(int head, std::uint32_t other) const;
+  // Scales every record's impulses: when the substep length changes (StepContext::impulse_ratio).
+  void scale_impulses(float ratio);
 
   // A record's feature ids and impulses before its manifold is collided anew, and then the impulses
   // carried over to the new points with the same feature ids. These touch that record alone, so

@@ -103,6 +103,7 @@ float FxDistanceJoint::current_length() const {
 }
 
 void FxDistanceJoint::prepare(FxConstraintContext& context) {
+  impulse_ = fx_carried_impulse(impulse_, context.impulse_ratio);
   anchor_a_ = start_anchor(context, *entity_a(), local_anchor_a_);
   anchor_b_ = start_anchor(context, *entity_b(), local_anchor_b_);
   separation0_ = context.center_offset(*entity_a(), *entity_b()) + anchor_b_ - anchor_a_;
@@ -164,6 +165,8 @@ float FxRevoluteJoint::anchor_gap() const {
 }
 
 void FxRevoluteJoint::prepare(FxConstraintContext& context) {
+  impulse_ = {fx_carried_impulse(impulse_.x, context.impulse_ratio),
+              fx_carried_impulse(impulse_.y, context.impulse_ratio)};
   anchor_a_ = start_anchor(context, *entity_a(), local_anchor_a_);
   anchor_b_ = start_anchor(context, *entity_b(), local_anchor_b_);
   separation0_ = context.center_offset(*entity_a(), *entity_b()) + anchor_b_ - anchor_a_;

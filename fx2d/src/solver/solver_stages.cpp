@@ -18,6 +18,7 @@ class SolverConstraintContext final : public FxConstraintContext {
   SolverConstraintContext(const StepContext& step, SolverData& solver, const Bodies& bodies)
       : solver_(solver), bodies_(bodies) {
     substep_dt = step.substep_dt;
+    impulse_ratio = step.impulse_ratio;
     inv_substep_dt = step.contact.inv_substep_dt;
     softness = step.joint_softness;
     max_linear_speed = step.limits.max_speed;

@@ -83,15 +83,18 @@ constexpr float spring_pushes_per_push = 8.0f;
 
 }  // namespace
 
-StepContext::StepContext(const FxSceneSettings& s, std::uint32_t bodies, StageClock& stage_clock, const Tasks& step_tasks)
+StepContext::StepContext(const FxSceneSettings& s, float last_substep_dt, std::uint32_t bodies,
+                         StageClock& stage_clock, const Tasks& step_tasks)
     : settings(s),
       substep_dt(s.dt / static_cast<float>(s.substeps)),
+      impulse_ratio(last_substep_dt > 0.0f ? substep_dt / last_substep_dt : 1.0f),
       // Any more would take a body past max_linear_speed within one substep, where it is clamped anyway.
       max_acceleration(2.0f * s.max_linear_speed / substep_dt),
       limits{s.max_linear_speed, max_angular_speed(s)},
       contact{make_softness(capped_hertz(s.contact_hertz, substep_dt), s.contact_damping_ratio, substep_dt),
               1.0f / substep_dt, s.max_push_speed, s.max_push_speed / spring_pushes_per_push, s.linear_slop},
-      joint_softness(make_softness(capped_hertz(s.joint_hertz, substep_dt), s.joint_damping_ratio, substep_dt)),
+      joint_softness(
+          make_softness(capped_hertz(s.joint_hertz, substep_dt), s.joint_damping_ratio, substep_dt)),
       body_count(bodies),
       clock(stage_clock),
       tasks(step_tasks) {}
@@ -120,7 +123,10 @@ void World::step() {
   stepping_ = true;
   {
     StageClock clock(profile_, FxStage::broad_phase);
-    const StepContext step(settings_, bodies_.count(), clock, tasks_);
+    const StepContext step(settings_, last_substep_dt_, bodies_.count(), clock, tasks_);
+    // Only after set_settings() changed dt or substeps: the joints scale theirs in prepare().
+    if (step.impulse_ratio != 1.0f) contacts_.scale_impulses(step.impulse_ratio);
+    last_substep_dt_ = step.substep_dt;
     update_broad_phase(step, broad_phase_, bodies_, contacts_, constraints_);
     clock.switch_to(FxStage::collide);
     update_contacts(step, narrow_phase_, contacts_, bodies_, broad_phase_.tree);

@@ -18,10 +18,15 @@
 namespace fx2d::detail {
 
 struct StepContext {
-  StepContext(const FxSceneSettings& settings, std::uint32_t body_count, StageClock& clock, const Tasks& tasks);
+  // last_substep_dt: the h of the step before, 0 before the first.
+  StepContext(const FxSceneSettings& settings, float last_substep_dt, std::uint32_t body_count,
+              StageClock& clock, const Tasks& tasks);
 
   const FxSceneSettings& settings;
   float substep_dt;            // h: seconds per substep
+  // h over the last step's h (1 for the first step). The impulses carried from the last step for
+  // warm starting were a substep's, so they are scaled by it: a resting load needs m g h a substep.
+  float impulse_ratio;
   float max_acceleration;      // m/s^2; more would pass max_linear_speed within one substep
   SpeedLimits limits;          // the scene's linear and angular speed limits
   ContactSolveParams contact;  // contact softness, 1/h and the largest push speed

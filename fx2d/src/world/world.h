@@ -70,6 +70,7 @@ class World final {
   std::function<void(FxScene&)> step_callback_;
   FxProfile profile_;
   std::uint64_t step_index_ = 0;
+  float last_substep_dt_ = 0.0f;  // the h of the last step (StepContext::impulse_ratio), 0 before it
   bool stepping_ = false;
   std::size_t reserved_bodies_ = 0;
 };
