@@ -168,6 +168,16 @@ TEST(Joints, AHangingLoadStaysAtRestWhenTheSubstepShortens) {
   }
 }
 
+// What a joint or a contact carries into a step whose substep is `ratio` times the last one's: the
+// impulse scaled, exactly when the ratio is 1, and nothing where the scaling overflows.
+TEST(Joints, CarriedImpulseScalesWithTheSubstepAndForgetsWhatOverflows) {
+  EXPECT_EQ(fx_carried_impulse(0.3f, 1.0f), 0.3f);
+  EXPECT_EQ(fx_carried_impulse(3.0f, 0.5f), 1.5f);
+  EXPECT_EQ(fx_carried_impulse(-3.0f, 2.0f), -6.0f);
+  EXPECT_EQ(fx_carried_impulse(3.0e38f, 4.0f), 0.0f);
+  EXPECT_EQ(fx_carried_impulse(-3.0e38f, 4.0f), 0.0f);
+}
+
 // Two pins weld a box to a kinematic slab, one of them 252 m out, and a kinematic block rises
 // through both at 140 m/s: the constraints cannot all hold. The pins fight each other and the
 // block; what that does to the box must stay within the speed limits, never feed impulse into it
