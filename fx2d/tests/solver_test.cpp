@@ -21,6 +21,13 @@ using test::run;
 
 constexpr float g = 10.0f;
 
+// A column of `height` unit boxes at x = 0, each exactly touching the one below, the lowest on y = 0.
+std::vector<std::shared_ptr<FxEntity>> add_column(FxScene& scene, int height) {
+  std::vector<std::shared_ptr<FxEntity>> boxes;
+  for (int i = 0; i < height; ++i) boxes.push_back(add_box(scene, {0.0f, 0.5f + static_cast<float>(i)}));
+  return boxes;
+}
+
 TEST(Solver, FreeFallFollowsSymplecticEulerTrajectory) {
   FxScene scene;
   FxEntityDef def;
@@ -122,8 +129,7 @@ TEST(Solver, TenBoxStackStandsForTenSeconds) {
   settings.sleeping = false;  // the stack must stand on its own, not by being frozen
   FxScene scene(settings);
   add_ground(scene);
-  std::vector<std::shared_ptr<FxEntity>> boxes;
-  for (int i = 0; i < 10; ++i) boxes.push_back(add_box(scene, {0.0f, 0.5f + 1.0f * static_cast<float>(i)}));
+  const std::vector<std::shared_ptr<FxEntity>> boxes = add_column(scene, 10);
   run(scene, 10.0f);
   for (int i = 0; i < 10; ++i) {
     const FxVec2f p = boxes[i]->position();
@@ -148,8 +154,7 @@ Jolt column_jolt_after(void (*change)(FxSceneSettings&)) {
   settings.sleeping = false;
   FxScene scene(settings);
   add_ground(scene);
-  std::vector<std::shared_ptr<FxEntity>> boxes;
-  for (int i = 0; i < 10; ++i) boxes.push_back(add_box(scene, {0.0f, 0.5f + 1.0f * static_cast<float>(i)}));
+  const std::vector<std::shared_ptr<FxEntity>> boxes = add_column(scene, 10);
   run(scene, 1.0f);
   std::vector<float> rested;
   for (const auto& box : boxes) rested.push_back(box->position().y);
@@ -337,8 +342,7 @@ TEST(Solver, SymmetricStacksStayCentredAsTheSubstepsAlternateThePointOrder) {
   settings.sleeping = false;
   FxScene column(settings);
   add_ground(column);
-  std::vector<std::shared_ptr<FxEntity>> boxes;
-  for (int i = 0; i < 10; ++i) boxes.push_back(add_box(column, {0.0f, 0.5f + 1.0f * static_cast<float>(i)}));
+  const std::vector<std::shared_ptr<FxEntity>> boxes = add_column(column, 10);
   run(column, 10.0f);
   for (int i = 0; i < 10; ++i) EXPECT_LT(std::fabs(boxes[i]->position().x), 1e-5f) << "box " << i;
 
@@ -489,7 +493,7 @@ TEST(Solver, BodyFarFromOriginMovesLikeOneAtOrigin) {
 struct RestingColumn {
   explicit RestingColumn(bool rest_schedule) : scene(settings_for(rest_schedule)) {
     add_ground(scene);
-    for (int i = 0; i < 10; ++i) boxes.push_back(add_box(scene, {0.0f, 0.5f + static_cast<float>(i)}));
+    boxes = add_column(scene, 10);
   }
   static FxSceneSettings settings_for(bool rest_schedule) {
     FxSceneSettings settings;
@@ -600,7 +604,7 @@ TEST(ShallowSchedule, AColumnAsTallAsTheDepthTakesItAndOneBoxTallerDoesNot) {
   for (const int height : {depth, depth + 1}) {
     FxScene scene(shallow_only());
     add_ground(scene);
-    for (int i = 0; i < height; ++i) add_box(scene, {0.0f, 0.5f + static_cast<float>(i)});
+    add_column(scene, height);
     const int full = full_steps_of(scene, 60);
     if (height == depth) {
       EXPECT_EQ(full, 0) << "a column of " << height;
