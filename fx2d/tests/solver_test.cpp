@@ -534,6 +534,45 @@ TEST(RestSchedule, AColumnAtRestTakesItAndStandsAsOnTheFullSchedule) {
   }
 }
 
+TEST(RestSchedule, ABoxCreepingIntoAWallStopsAtIt) {
+  // Slower than the sleep speed, a frictionless box counts as resting, and the world takes the rest
+  // schedule while it nears the wall. Such a step measures its separations once, at its start,
+  // only while no contact can close its gap or press in within it; the steps that reach the wall
+  // measure them after every substep, and the box stops at the wall.
+  // - From 30.3 mm, not a whole number of steps away, with separations measured once a step it
+  //   crossed its last 0.37 mm unseen and bounced back at 5 mm/s.
+  // - From 30 mm it reaches the wall at a step's end still pressing in at 5 mm/s; with touching
+  //   points let through, it bounced back at 2 mm/s.
+  for (const float gap : {0.0303f, 0.03f}) {
+    SCOPED_TRACE(gap);
+    FxScene scene(RestingColumn::settings_for(true));
+    const FxMaterial ice{1.0f, 0.0f, 0.0f, 0.0f};
+    add_ground(scene, 50.0f, 0.0f, ice);
+    FxEntityDef wall;
+    wall.type = FxBodyType::static_body;
+    wall.shape = FxShape::box(0.5f, 2.0f);
+    wall.position = {2.0f, 2.0f};  // its face at x = 1.5
+    wall.material = ice;
+    scene.create_entity(wall);
+    const float speed = 0.04f;  // m/s, below linear_sleep_speed
+    auto box = add_box(scene, {1.0f - gap, 0.5f}, 0.5f, ice);
+    box->set_linear_velocity({speed, 0.0f});
+    const auto overlap = [&] { return box->position().x + 0.5f - 1.5f; };
+    int rest_steps_at_the_wall = 0;
+    float deepest = -1.0f;
+    for (int step = 0; step < 120; ++step) {
+      scene.step();
+      deepest = std::max(deepest, overlap());
+      if (overlap() > -0.005f && took_rest_schedule(scene)) ++rest_steps_at_the_wall;
+    }
+    EXPECT_GT(rest_steps_at_the_wall, 30);
+    EXPECT_LT(deepest, 1e-5f);
+    // Held at the wall, and at rest: it leaves the wall at under 0.1 mm/s.
+    EXPECT_GT(overlap(), -5e-4f);
+    EXPECT_LT(std::fabs(box->linear_velocity().x), 1e-3f);
+  }
+}
+
 TEST(RestSchedule, OneMovingBodyKeepsTheWholeWorldOnTheFullSchedule) {
   // A ball thrown up far from the column is never at rest for 0.1 s (near the top of its flight it
   // is slower than the sleep speed for about 0.01 s): every step takes the full passes, and the

@@ -54,7 +54,9 @@ struct FxSceneSettings {
   // 1 keeps a stack of 116 boxes and a mass ratio of 1024 (8 x 2 x 3 throughout: 120 and 1117; 8 x 1 x
   // 2 at rest: 119 and 1117, but 0.80 of the step's time on stacks where 8 x 1 x 1 takes 0.69), where
   // 4 x 2 x 3 at rest keeps 76 and 861, and with no rigid pass a resting stack gains kinetic energy
-  // (measured at a max_push_speed of 3; at 5 the mass ratio is 1328).
+  // (measured at a max_push_speed of 3; at 5 the mass ratio is 1328). Its substeps measure the
+  // separations once, at the step's start, unless a contact could close a gap within the step or
+  // press a touching point in by more than its spring would push back unseen (at 1 mm/s).
   // One moving body anywhere gives the whole step the full schedule, unless the shallow schedule
   // below takes it.
   bool rest_schedule = true;

@@ -500,6 +500,29 @@ FX2D_LANE_KERNEL bool update_run_separations(std::span<const BatchRun> runs, Con
   return any;
 }
 
+// Whether every point of every batch of `runs` moves within the step too little for its separation
+// to need measuring again (ContactBatches::separations_hold). Padding lanes, at rest and touching,
+// hold.
+FX2D_LANE_KERNEL bool runs_hold_separations(std::span<const BatchRun> runs, const ContactBatch* batches,
+                                            float dt, float fall, float touching_travel) {
+  std::int32_t moved = 0;
+  for (const BatchRun& run : runs) {
+    for (int i = run.first; i < run.first + run.count; ++i) {
+      const ContactBatch& k = batches[i];
+      for (int p = 0; p < run.point_count; ++p) {
+        // check-vectorized(1): the lane loop below must be vectorised (not unrolled first)
+#pragma GCC unroll 1
+        for (int lane = 0; lane < lane_count; ++lane) {
+          const float separation = k.point[p].separation[lane];
+          const float travel = max_of(-k.relative_velocity[p][lane], 0.0f) * dt;
+          moved |= separation > 0.0f ? !(travel + fall < separation) : !(travel <= touching_travel);
+        }
+      }
+    }
+  }
+  return moved == 0;
+}
+
 template <bool UseBias>
 FX2D_LANE_INLINE void solve_runs(std::span<const BatchRun> runs, ContactBatch* batches, FxBodyState* states,
                                  const ContactSolveParams& params, PointOrder order, bool scalar,
@@ -595,6 +618,12 @@ void ContactBatches::update_separations(std::span<const FxBodyState> states, flo
   } else {
     any_deep_ = update_run_separations(runs_, batches_.data(), states.data(), slop, deep_.data());
   }
+}
+
+bool ContactBatches::separations_hold(float dt, float acceleration, float touching_travel) const {
+  // Each of a point's two bodies may fall towards the other at `acceleration` from rest.
+  const float fall = acceleration * dt * dt;
+  return runs_hold_separations(runs_, batches_.data(), dt, fall, touching_travel);
 }
 
 void ContactBatches::update_separations_apart(std::span<const FxBodyState> states, float slop, const Tasks& tasks) {

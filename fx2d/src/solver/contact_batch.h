@@ -161,6 +161,10 @@ class ContactBatches {
   // change only between substeps, so once after each position integration is enough. Also marks
   // the batches with a point deeper than `slop`, the only ones push() touches.
   void update_separations(std::span<const FxBodyState> states, float slop, const Tasks& tasks);
+  // True when, over a step of `dt`, no point apart can close its gap at its relative speed at the
+  // step's start and `acceleration` for each of its bodies, and no touching point closes by more
+  // than `touching_travel` (metres): step_schedule.h's rule for measuring separations once a step.
+  bool separations_hold(float dt, float acceleration, float touching_travel) const;
   // Gives every point deeper than the slop the velocity that separates it at the soft contact's
   // rate, at most max_push_speed; take_back_push(), once the positions have moved, removes exactly
   // that velocity again, so overlaps are pushed apart in position and nothing is launched. Both

@@ -121,6 +121,7 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   const float h = step.substep_dt;
   states.assign(records.size() + 1, FxBodyState{});
   bool at_rest = settings.rest_schedule;
+  float largest_acceleration = 0.0f;
   for (std::uint32_t i = 0; i < records.size(); ++i) {
     const bool moves = records[i].awake && records[i].type != FxBodyType::static_body;
     if (!moves) continue;
@@ -131,11 +132,18 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
     integration.add_moving(i);
     if (records[i].type != FxBodyType::dynamic) continue;
     state.flags = movable_flag;
-    integration.add_dynamic(i, clamped_acceleration(settings.gravity + sims[i].inv_mass * sims[i].force, step.max_acceleration),
-                            1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping));
+    const FxVec2f acceleration =
+        clamped_acceleration(settings.gravity + sims[i].inv_mass * sims[i].force, step.max_acceleration);
+    // Bounded by the sum of the components' magnitudes, which needs no square root.
+    largest_acceleration =
+        std::max(largest_acceleration, std::fabs(acceleration.x) + std::fabs(acceleration.y));
+    integration.add_dynamic(i, acceleration, 1.0f / (1.0f + h * records[i].linear_damping),
+                            1.0f / (1.0f + h * records[i].angular_damping));
   }
   integration.finish();
   solver.contact_solver.prepare(contacts, bodies);
+  solver.at_rest = at_rest;
+  solver.largest_acceleration = largest_acceleration;
   if (at_rest || takes_shallow_schedule(settings, solver, bodies, contacts, constraints)) {
     solver.passes = light_schedule_passes;
   }
@@ -147,6 +155,9 @@ void colour_and_pack(const StepContext& step, SolverData& solver, const Bodies& 
   solver.contact_batches.pack(constraints, solver.contact_graph, contacts, bodies, step.body_count, step.tasks,
                               step.settings.force_scalar_solver);
   solver.contact_batches.update_separations(solver.states, step.contact.linear_slop, step.tasks);
+  solver.separations_once = solver.at_rest && solver.contact_batches.separations_hold(
+                                                  step.settings.dt, solver.largest_acceleration,
+                                                  resting_rebound / step.contact.softness.bias_rate);
 }
 
 namespace {
@@ -193,7 +204,9 @@ class Substep {
   void relax() {
     step_.clock.switch_to(FxStage::relax);
     solver_.contact_batches.take_back_push(solver_.states, step_.settings.force_scalar_solver, step_.tasks);
-    solver_.contact_batches.update_separations(solver_.states, step_.contact.linear_slop, step_.tasks);
+    if (!solver_.separations_once) {
+      solver_.contact_batches.update_separations(solver_.states, step_.contact.linear_slop, step_.tasks);
+    }
     for (int pass = 0; pass < solver_.passes.relax; ++pass) velocity_pass(FxStage::relax, false);
   }
 

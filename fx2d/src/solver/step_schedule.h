@@ -27,6 +27,20 @@ inline constexpr PassCounts light_schedule_passes{1, 1};
 float fastest_closing(std::span<const ConstraintSource> contacts, const ContactCache& cache,
                       const Bodies& bodies);
 
+// Whether a step at rest (every awake body has rested) measures its contacts' separations once,
+// at its start, rather than after each substep's position integration (SolverData::
+// separations_once): when no contact point moves within the step by enough to matter
+// (ContactBatches::separations_hold).
+// - A point apart must not close its gap: its relative speed along the normal at the step's start,
+//   plus what the largest acceleration of an awake body adds over the step (for both of its
+//   bodies), covers less than its separation.
+// - A touching point must not close by more than resting_rebound / the contacts' bias rate: the
+//   soft spring pushes against the separation it was given, so a point pressed deeper than that is
+//   pushed back out at the bias rate times the difference, a speed the rigid passes do not take back.
+// Resting stacks close at micrometres a second; a box that creeps into a wall below the sleep speed
+// does not qualify (RestSchedule tests).
+inline constexpr float resting_rebound = 0.001f;  // m/s: a fiftieth of the default sleep speed
+
 // The support chains of a step: each movable body's fewest links (touching contacts and joints
 // between movable bodies) down to a body that does not move with the solve (static, kinematic or
 // asleep). A body on no such chain, as in free fall, is held by none.
