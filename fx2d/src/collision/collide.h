@@ -31,6 +31,9 @@ enum class NormalFrame : std::uint8_t { world, body_a, body_b };
 // A face that held two polygons at least the speculative distance apart. Most pairs the broad
 // phase keeps are apart, and stay apart along the same face step after step, so the pair's next
 // collision tries that face first and, while it still separates them, skips the full search.
+// Skipping the collision too while a bound on the pair's motion since showed that face could not
+// have closed to the speculative distance (the same bits) cut settling_boxes' instructions by 1.7%
+// (200) and 2.6% (800), but not its time: collide took 1.02-1.05 times as long.
 struct SeparatingFace {
   enum class Owner : std::uint8_t { none, a, b };
   Owner owner = Owner::none;
