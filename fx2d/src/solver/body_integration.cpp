@@ -276,6 +276,14 @@ void BodyIntegration::integrate_velocities(std::span<FxBodyState> states, float 
                        });
 }
 
+float BodyIntegration::largest_acceleration() const {
+  float largest = 0.0f;
+  for (std::size_t i = 0; i < dynamic_size_; ++i) {
+    largest = std::max(largest, std::fabs(acceleration_x_[i]) + std::fabs(acceleration_y_[i]));
+  }
+  return largest;
+}
+
 void BodyIntegration::integrate_positions(std::span<FxBodyState> states, float h, SpeedLimits limits,
                                           const Tasks& tasks) const {
   const auto count = static_cast<std::uint32_t>(moving_size_);

@@ -59,6 +59,9 @@ class BodyIntegration {
   }
   // Pads both lists to whole groups; call once, after the last add.
   void finish();
+  // A bound on the largest acceleration of a dynamic body added this step (m/s^2): the sum of its
+  // components' magnitudes, which needs no square root.
+  float largest_acceleration() const;
   // The awake moving bodies added this step, in order, without the padding.
   std::span<const std::uint32_t> moving_bodies() const { return {moving_.data(), moving_count_}; }
 

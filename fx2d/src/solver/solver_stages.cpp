@@ -121,7 +121,6 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   const float h = step.substep_dt;
   states.assign(records.size() + 1, FxBodyState{});
   bool at_rest = settings.rest_schedule;
-  float largest_acceleration = 0.0f;
   for (std::uint32_t i = 0; i < records.size(); ++i) {
     const bool moves = records[i].awake && records[i].type != FxBodyType::static_body;
     if (!moves) continue;
@@ -132,18 +131,13 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
     integration.add_moving(i);
     if (records[i].type != FxBodyType::dynamic) continue;
     state.flags = movable_flag;
-    const FxVec2f acceleration =
-        clamped_acceleration(settings.gravity + sims[i].inv_mass * sims[i].force, step.max_acceleration);
-    // Bounded by the sum of the components' magnitudes, which needs no square root.
-    largest_acceleration =
-        std::max(largest_acceleration, std::fabs(acceleration.x) + std::fabs(acceleration.y));
-    integration.add_dynamic(i, acceleration, 1.0f / (1.0f + h * records[i].linear_damping),
-                            1.0f / (1.0f + h * records[i].angular_damping));
+    integration.add_dynamic(
+        i, clamped_acceleration(settings.gravity + sims[i].inv_mass * sims[i].force, step.max_acceleration),
+        1.0f / (1.0f + h * records[i].linear_damping), 1.0f / (1.0f + h * records[i].angular_damping));
   }
   integration.finish();
   solver.contact_solver.prepare(contacts, bodies);
   solver.at_rest = at_rest;
-  solver.largest_acceleration = largest_acceleration;
   if (at_rest || takes_shallow_schedule(settings, solver, bodies, contacts, constraints)) {
     solver.passes = light_schedule_passes;
   }
@@ -156,7 +150,7 @@ void colour_and_pack(const StepContext& step, SolverData& solver, const Bodies& 
                               step.settings.force_scalar_solver);
   solver.contact_batches.update_separations(solver.states, step.contact.linear_slop, step.tasks);
   solver.separations_once = solver.at_rest && solver.contact_batches.separations_hold(
-                                                  step.settings.dt, solver.largest_acceleration,
+                                                  step.settings.dt, solver.integration.largest_acceleration(),
                                                   resting_rebound / step.contact.softness.bias_rate);
 }
 

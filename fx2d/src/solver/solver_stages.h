@@ -32,10 +32,8 @@ struct SolverData {
   ContactBatches contact_batches;
   SupportChains support_chains;       // prepare_solver's scratch for the shallow schedule
   PassCounts passes;                  // chosen by prepare_solver
-  // Whether every awake body has rested (FxSceneSettings::rest_schedule), and then a bound on the
-  // largest acceleration of one (m/s^2): set by prepare_solver.
+  // Whether every awake body has rested (FxSceneSettings::rest_schedule): set by prepare_solver.
   bool at_rest = false;
-  float largest_acceleration = 0.0f;
   // Set by colour_and_pack: the substeps measure the separations once, at the step's start
   // (step_schedule.h's resting_rebound says when).
   bool separations_once = false;
