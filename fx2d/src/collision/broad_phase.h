@@ -3,8 +3,8 @@
 // read the fat boxes.
 #pragma once
 
-#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "collision/aabb_tree.h"
@@ -15,13 +15,24 @@ namespace fx2d::detail {
 
 struct StepContext;
 
-// `box` stretched to cover itself moved by `displacement`. Without branches: refresh() runs for every
-// moving body every step, and the signs of a heap's velocities are a coin toss.
+// `box` stretched to cover itself moved by `displacement`: std::min(d, 0) added to its lower corner
+// and std::max(d, 0) to its upper, -0 and NaN alike, as one four-lane select. refresh() runs for
+// every moving body every step, and the signs of a heap's velocities are a coin toss: written per
+// coordinate, the baseline (SSE2) build branched on two of them, and the box refresh of finalize
+// took 1.7 times as long as in an x86-64-v3 build.
 inline FxAABB swept(FxAABB box, FxVec2f displacement) {
-  box.lower.x += std::min(displacement.x, 0.0f);
-  box.lower.y += std::min(displacement.y, 0.0f);
-  box.upper.x += std::max(displacement.x, 0.0f);
-  box.upper.y += std::max(displacement.y, 0.0f);
+  using Row = float __attribute__((vector_size(16)));
+  using RowMask = std::int32_t __attribute__((vector_size(16)));
+  static_assert(sizeof(FxAABB) == sizeof(Row), "a box is four floats: lower, then upper");
+  const Row d = {displacement.x, displacement.y, displacement.x, displacement.y};
+  // A lower lane drops a displacement > 0, an upper lane one < 0 (-d > 0).
+  const Row toward_dropped = {1.0f, 1.0f, -1.0f, -1.0f};
+  const RowMask dropped = d * toward_dropped > Row{};
+  const Row kept = reinterpret_cast<Row>(reinterpret_cast<RowMask>(d) & ~dropped);
+  Row row;
+  std::memcpy(&row, &box, sizeof row);
+  row += kept;
+  std::memcpy(static_cast<void*>(&box), &row, sizeof box);
   return box;
 }
 
