@@ -96,7 +96,10 @@ class AabbTree {
   // stack, and of two that overlap the walk goes straight on into the second and pushes only the
   // first, the order a stack of both would pop them in (the order stays what it was). The box is
   // taken by value: a reference made the compiler reload it for every test, since the visitor's
-  // stores might have changed it.
+  // stores might have changed it. The walk runs some 37 instructions a node, predicted well: on
+  // settling_boxes 3000's pair search (29 nodes a query, 68M cycles in 200 steps) pushing both
+  // children without a branch took 1.17 times as long, a four-lane box test 1.16, and
+  // prefetching the grandchildren 1.02.
   template <class Visit>
   void walk(FxAABB box, int* stack, Visit& visit) const {
     if (!overlaps(nodes_[root_].box, box)) return;
