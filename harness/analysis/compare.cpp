@@ -279,6 +279,28 @@ void warn_on_state_dependent_ratios(CompareReport& report) {
   }
 }
 
+// A step that ran faster or slower while its exact instruction count held: the same work at a
+// different speed, which in an A/B of two builds is most often code placement (where the build
+// put the hot loops), not the change itself. The next edit can move it back; the count holds.
+void warn_on_time_without_instructions(CompareReport& report) {
+  for (const CompareRow& step : report.rows) {
+    if (step.metric != step_metric ||
+        (step.speed.speed != Speed::faster && step.speed.speed != Speed::slower))
+      continue;
+    const auto count = std::ranges::find_if(report.rows, [&](const CompareRow& row) {
+      return row.metric == instructions_metric && row.engine == step.engine && row.scene == step.scene &&
+             row.bodies == step.bodies;
+    });
+    if (count == report.rows.end() || count->speed.speed != Speed::no_change) continue;
+    report.warnings.push_back(
+        step.engine + " " + step.scene + " " + std::to_string(step.bodies) + ": the step is " +
+        to_string(step.speed.speed) + " (B/A " + formatted("%.3f", step.estimate.ratio) + ") on " +
+        formatted("%.3f", count->estimate.ratio) +
+        " of A's instructions; the same work at another speed is most often code placement, "
+        "which the next edit can undo: credit the change with what the count shows");
+  }
+}
+
 // A/B, by both commands: `rounds_paired` when A and B are the two builds of one `ab` file.
 CompareReport compare_ab(const ResultSet& a, const std::string& a_label, const ResultSet& b, const std::string& b_label,
                          const CompareSettings& settings, bool rounds_paired) {
@@ -304,6 +326,7 @@ CompareReport compare_ab(const ResultSet& a, const std::string& a_label, const R
   }
   warn_on_one_sided_counts(one_sided_counts, pair_label, report.warnings);
   warn_on_state_dependent_ratios(report);
+  warn_on_time_without_instructions(report);
   for (const auto& [key, run_b] : runs_b)
     if (!runs_a.contains(key)) report.warnings.push_back(describe(*run_b) + " is only in " + b_label);
   if (report.rows.empty())

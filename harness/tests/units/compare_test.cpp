@@ -479,6 +479,24 @@ TEST_F(CompareFiles, InstructionToleranceIsSettable) {
   EXPECT_EQ(compare(a, one_more, exact).exit_code(), exit_regression);
 }
 
+TEST_F(CompareFiles, AFasterStepOnTheSameInstructionsIsFlaggedAsLikelyPlacement) {
+  const ResultSet a = results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count)});
+  const CompareReport same_count =
+      compare(a, results_of({counted(synthetic_run("fx2d", "pile", 0.9, 0), reference_count + 1000)}));
+  ASSERT_EQ(row_of(same_count, "fx2d", "pile", "ms_per_step").speed.speed, Speed::faster);
+  ASSERT_EQ(same_count.warnings.size(), 1u);
+  EXPECT_NE(same_count.warnings[0].find(
+                "fx2d pile 300: the step is faster (B/A 0.900) on 1.000 of A's instructions"),
+            std::string::npos)
+      << same_count.warnings[0];
+  EXPECT_NE(same_count.warnings[0].find("code placement"), std::string::npos) << same_count.warnings[0];
+  // The count moved with the time: the change did the work, and nothing is said.
+  const CompareReport fewer =
+      compare(a, results_of({counted(synthetic_run("fx2d", "pile", 0.9, 0), 36'000'000)}));
+  EXPECT_EQ(row_of(fewer, "fx2d", "pile", "instructions_per_step").speed.speed, Speed::faster);
+  EXPECT_TRUE(fewer.warnings.empty());
+}
+
 TEST_F(CompareFiles, CountsOnOneSideGiveNoInstructionRowAndOneWarning) {
   const ResultSet a = results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count),
                                   counted(synthetic_run("fx2d", "stacks", 1.0, 0), reference_count)});
