@@ -68,7 +68,9 @@ FxVec2f point_velocity(const FxBodyState& state, FxVec2f anchor) {
   return state.linear_velocity + cross(state.angular_velocity, anchor);
 }
 
-// Whether a contact becomes a constraint this step: touching, with an awake body.
+// Whether a contact becomes a constraint this step: touching, with an awake body. Which slots
+// touch looks like a coin toss, but listing them without a branch (each slot written at the
+// list's end, the length grown by whether it is active) made prepare 1.05-1.22 times as long.
 bool is_active(const CachedContact& contact, const Bodies& bodies) {
   return contact.touching && (bodies.records[contact.body_a].awake || bodies.records[contact.body_b].awake);
 }
