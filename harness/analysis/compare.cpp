@@ -263,6 +263,11 @@ void warn_on_provenance(const Provenance& a, const Provenance& b, const std::str
                          "\"); pass --force to compare without this warning");
 }
 
+// How a warning names a row's engine, scene and size: "fx2d pile 300".
+std::string cell_of(const CompareRow& row) {
+  return row.engine + " " + row.scene + " " + std::to_string(row.bodies);
+}
+
 // Paired rounds whose faster and slower halves disagree by more than the noise band: the machine
 // ran in two states that change the builds unequally, so the verdict depends on which it was in.
 void warn_on_state_dependent_ratios(CompareReport& report) {
@@ -270,12 +275,12 @@ void warn_on_state_dependent_ratios(CompareReport& report) {
     if (row.metric != step_metric || !row.ratios_by_round_speed || row.repeats_a < min_rounds_to_split) continue;
     const RatiosByRoundSpeed& halves = *row.ratios_by_round_speed;
     if (std::abs(halves.slowest_half - halves.fastest_half) <= report.settings.rules.noise) continue;
-    report.warnings.push_back(row.engine + " " + row.scene + " " + std::to_string(row.bodies) + ": B/A is " +
-                              formatted("%.3f", halves.fastest_half) + " over the half of the rounds that ran fastest and " +
-                              formatted("%.3f", halves.slowest_half) +
-                              " over the slowest half; the change may depend on the machine's state (a busy "
-                              "neighbouring hardware thread, say): pin with taskset and read the per-round ratios "
-                              "(harness/README, ab)");
+    report.warnings.push_back(
+        cell_of(row) + ": B/A is " + formatted("%.3f", halves.fastest_half) +
+        " over the half of the rounds that ran fastest and " + formatted("%.3f", halves.slowest_half) +
+        " over the slowest half; the change may depend on the machine's state (a busy "
+        "neighbouring hardware thread, say): pin with taskset and read the per-round ratios "
+        "(harness/README, ab)");
   }
 }
 
@@ -293,9 +298,8 @@ void warn_on_time_without_instructions(CompareReport& report) {
     });
     if (count == report.rows.end() || count->speed.speed != Speed::no_change) continue;
     report.warnings.push_back(
-        step.engine + " " + step.scene + " " + std::to_string(step.bodies) + ": the step is " +
-        to_string(step.speed.speed) + " (B/A " + formatted("%.3f", step.estimate.ratio) + ") on " +
-        formatted("%.3f", count->estimate.ratio) +
+        cell_of(step) + ": the step is " + to_string(step.speed.speed) + " (B/A " +
+        formatted("%.3f", step.estimate.ratio) + ") on " + formatted("%.3f", count->estimate.ratio) +
         " of A's instructions; the same work at another speed is most often code placement, "
         "which the next edit can undo: credit the change with what the count shows");
   }
