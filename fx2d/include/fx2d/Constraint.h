@@ -3,10 +3,13 @@
 // A constraint sees the bodies through FxConstraintContext, which exposes the solver's own body
 // state: velocities, and the position and rotation moved since the step began. Positions are kept
 // relative within a step so that constraints between bodies far from the origin lose no
-// precision. The solver calls, per step: prepare() once (where a constraint that warm starts scales
-// its kept impulse by the context's impulse_ratio); then per substep warm_start() once and
-// evaluate() once per velocity pass with use_bias (correct position error) and once more as a
-// relaxation pass without it.
+// precision. For a user's own constraint the solver calls, per step: prepare() once (where a
+// constraint that warm starts scales its kept impulse by the context's impulse_ratio); then per
+// substep warm_start() once and evaluate() once per velocity pass with use_bias (correct position
+// error) and once per relaxation pass without it. The joints Fx2D provides it solves itself, with
+// the same arithmetic and in the same order among the others, making no virtual call per pass;
+// their own prepare(), warm_start() and evaluate() serve a user's solver, or a constraint of the
+// user's that hands its calls on to one of them.
 //
 // Two entities joined by a constraint never collide with each other.
 //
@@ -21,6 +24,9 @@
 #include "fx2d/Math.h"
 
 namespace fx2d {
+namespace detail {
+class JointRows;
+}
 
 // The solver's per-body state during a step. Hot: every velocity pass reads and writes it.
 struct FxBodyState {
@@ -86,8 +92,17 @@ class FxConstraint {
   const std::shared_ptr<FxEntity>& entity_b() const { return b_; }
 
  private:
+  friend class FxDistanceJoint;
+  friend class FxRevoluteJoint;
+  friend class detail::JointRows;
+  // Which joint Fx2D provides this is, if any: the step solves those itself, with no virtual call
+  // per pass, and calls prepare(), warm_start() and evaluate() only on a user's own constraints.
+  enum class Provided : std::uint8_t { none, distance_joint, revolute_joint };
+  FxConstraint(std::shared_ptr<FxEntity> a, std::shared_ptr<FxEntity> b, Provided provided);
+
   std::shared_ptr<FxEntity> a_;
   std::shared_ptr<FxEntity> b_;
+  Provided provided_;
 };
 
 // Keeps two anchor points at a fixed distance (a rigid rod).
@@ -105,6 +120,7 @@ class FxDistanceJoint final : public FxConstraint {
   void evaluate(FxConstraintContext& context, bool use_bias) override;
 
  private:
+  friend class detail::JointRows;
   FxVec2f local_anchor_a_, local_anchor_b_;
   float length_;
   // Per-step solver data.
@@ -126,6 +142,7 @@ class FxRevoluteJoint final : public FxConstraint {
   void evaluate(FxConstraintContext& context, bool use_bias) override;
 
  private:
+  friend class detail::JointRows;
   FxVec2f local_anchor_a_, local_anchor_b_;
   FxVec2f anchor_a_, anchor_b_;
   FxVec2f separation0_;

@@ -164,7 +164,14 @@ class Substep {
       : step_(step), solver_(solver), constraints_(constraints), joints_(step, solver, bodies) {
     if (constraints_.empty()) return;
     step_.clock.switch_to(FxStage::constraints);
-    for (const auto& constraint : constraints_) constraint->prepare(joints_);
+    solver_.joint_rows.prepare(constraints_, bodies, joints_);
+  }
+
+  // Keeps the joints' impulses for the next step's warm start.
+  void finish() {
+    if (constraints_.empty()) return;
+    step_.clock.switch_to(FxStage::constraints);
+    solver_.joint_rows.store();
   }
 
   void set_point_order(PointOrder order) { point_order_ = order; }
@@ -177,7 +184,7 @@ class Substep {
   void warm_start() {
     if (!constraints_.empty()) {
       step_.clock.switch_to(FxStage::constraints);
-      for (const auto& constraint : constraints_) constraint->warm_start(joints_);
+      solver_.joint_rows.warm_start(solver_.states);
     }
     step_.clock.switch_to(FxStage::warm_start);
     solver_.contact_batches.warm_start(solver_.states, step_.settings.force_scalar_solver, step_.tasks);
@@ -209,7 +216,7 @@ class Substep {
   void velocity_pass(FxStage stage, bool use_bias) {
     if (!constraints_.empty()) {
       step_.clock.switch_to(FxStage::constraints);
-      for (const auto& constraint : constraints_) constraint->evaluate(joints_, use_bias);
+      solver_.joint_rows.evaluate(solver_.states, use_bias);
     }
     step_.clock.switch_to(stage);
     solver_.contact_batches.resolve_velocities(solver_.states, step_.contact, use_bias, point_order_,
@@ -237,6 +244,7 @@ void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& b
     substep.integrate_positions();
     substep.relax();
   }
+  substep.finish();
 }
 
 void apply_restitution(const StepContext& step, SolverData& solver) {

@@ -17,6 +17,7 @@
 #include "solver/contact_batch.h"
 #include "solver/contact_graph.h"
 #include "solver/contact_solver.h"
+#include "solver/joint_rows.h"
 #include "solver/step_schedule.h"
 #include "world/bodies.h"
 
@@ -30,6 +31,7 @@ struct SolverData {
   ContactSolver contact_solver;
   ContactGraph contact_graph;
   ContactBatches contact_batches;
+  JointRows joint_rows;               // the user constraints (joints), for the substeps' passes
   SupportChains support_chains;       // prepare_solver's scratch for the shallow schedule
   PassCounts passes;                  // chosen by prepare_solver
   // Whether every awake body has rested (FxSceneSettings::rest_schedule): set by prepare_solver.

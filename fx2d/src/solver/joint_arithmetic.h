@@ -1,0 +1,167 @@
+// The arithmetic of the two joints Fx2D provides, one function per joint and pass: the public
+// classes (joints.cpp), which reach their bodies through an FxConstraintContext, and the step's
+// joint rows (joint_rows.h), which reach them by index, both call these, so the two agree to the
+// bit. Each joint keeps its anchors relative to the centres of mass at the step's start and
+// recovers its current error from the bodies' displacement since then, like contacts.
+#pragma once
+
+#include <cmath>
+
+#include "fx2d/Constraint.h"
+
+namespace fx2d::detail {
+
+// A joint's two bodies: their solver states and their inverse masses.
+struct JointBodies {
+  FxBodyState& a;
+  FxBodyState& b;
+  float inv_mass_a, inv_inertia_a, inv_mass_b, inv_inertia_b;
+};
+
+// What a pass needs besides the joint and its bodies.
+struct JointPassParams {
+  FxSoftness softness;
+  float max_linear_speed;   // m/s
+  float max_angular_speed;  // rad/s
+};
+
+// Where a joint stands at the step's start: its anchors relative to the centres of mass,
+// world-aligned, and anchor b minus anchor a.
+struct JointFrame {
+  FxVec2f anchor_a, anchor_b;
+  FxVec2f separation0;
+};
+
+// A body-local anchor as an offset from the centre of mass, world-aligned, at the step's start.
+inline FxVec2f start_anchor(FxRot start_rotation, FxVec2f local_center, FxVec2f local_anchor) {
+  return rotate(start_rotation, local_anchor - local_center);
+}
+
+inline JointFrame joint_frame(FxVec2f anchor_a, FxVec2f anchor_b, FxVec2f center_offset) {
+  return {anchor_a, anchor_b, center_offset + anchor_b - anchor_a};
+}
+
+inline void apply_joint_impulse(JointBodies& bodies, FxVec2f anchor_a, FxVec2f anchor_b, FxVec2f impulse) {
+  bodies.a.linear_velocity -= bodies.inv_mass_a * impulse;
+  bodies.a.angular_velocity -= bodies.inv_inertia_a * cross(anchor_a, impulse);
+  bodies.b.linear_velocity += bodies.inv_mass_b * impulse;
+  bodies.b.angular_velocity += bodies.inv_inertia_b * cross(anchor_b, impulse);
+}
+
+inline FxVec2f anchors_relative_velocity(const JointBodies& bodies, FxVec2f anchor_a, FxVec2f anchor_b) {
+  return (bodies.b.linear_velocity + cross(bodies.b.angular_velocity, anchor_b)) -
+         (bodies.a.linear_velocity + cross(bodies.a.angular_velocity, anchor_a));
+}
+
+// Anchor b minus anchor a now, from where they were at the step's start and how far each body
+// moved and turned since.
+inline FxVec2f current_separation(const JointBodies& bodies, const JointFrame& frame, FxVec2f anchor_a,
+                                  FxVec2f anchor_b) {
+  return frame.separation0 + (bodies.b.delta_position - bodies.a.delta_position) +
+         (anchor_b - frame.anchor_b) - (anchor_a - frame.anchor_a);
+}
+
+// The largest impulse a joint may accumulate: what stops its anchors closing at the fastest speeds
+// the bodies may have (K >= ma + mb in every direction, so no rigid solve needs more). Redundant
+// joints, such as two pins between one pair of bodies, otherwise trade impulse between themselves
+// without limit; once the lever arms turn, that internal impulse becomes real torque and grows
+// geometrically from substep to substep.
+inline float max_joint_impulse(const JointPassParams& params, const JointBodies& bodies, FxVec2f anchor_a,
+                               FxVec2f anchor_b) {
+  const float anchor_speed =
+      2.0f * params.max_linear_speed + params.max_angular_speed * (length(anchor_a) + length(anchor_b));
+  return anchor_speed / (bodies.inv_mass_a + bodies.inv_mass_b);
+}
+
+inline void warm_start_distance(JointBodies& bodies, const JointFrame& frame, float impulse) {
+  const FxVec2f ra = rotate(bodies.a.delta_rotation, frame.anchor_a);
+  const FxVec2f rb = rotate(bodies.b.delta_rotation, frame.anchor_b);
+  const FxVec2f axis = normalize(current_separation(bodies, frame, ra, rb));
+  apply_joint_impulse(bodies, ra, rb, impulse * axis);
+}
+
+// One pass of a rod of `rest_length` between the anchors: soft (use_bias) or rigid.
+inline void solve_distance(JointBodies& bodies, const JointFrame& frame, float rest_length,
+                           float& accumulated, const JointPassParams& params, bool use_bias) {
+  const FxVec2f ra = rotate(bodies.a.delta_rotation, frame.anchor_a);
+  const FxVec2f rb = rotate(bodies.b.delta_rotation, frame.anchor_b);
+  const FxVec2f separation = current_separation(bodies, frame, ra, rb);
+  const FxVec2f axis = normalize(separation);
+  const float cra = cross(ra, axis);
+  const float crb = cross(rb, axis);
+  const float k = bodies.inv_mass_a + bodies.inv_mass_b + bodies.inv_inertia_a * cra * cra +
+                  bodies.inv_inertia_b * crb * crb;
+  // No finite effective mass (both ends immovable, or an inverse mass so large that K overflowed):
+  // this joint cannot move its bodies, and an impulse from 1/k would not be finite.
+  if (!(k > 0.0f && std::isfinite(k))) return;
+  float bias = 0.0f;
+  float mass_scale = 1.0f;
+  float impulse_scale = 0.0f;
+  if (use_bias) {
+    // Unlike a contact's push-out, a joint's correction is not capped at a speed: its error is the
+    // load it carries, and a capped pull lets a chain under a heavy load yield without end. What
+    // two joints that cannot both hold do to a body stays bounded by max_joint_impulse and the
+    // speed limits.
+    const float error = length(separation) - rest_length;
+    bias = params.softness.bias_rate * error;
+    mass_scale = params.softness.mass_scale;
+    impulse_scale = params.softness.impulse_scale;
+  }
+  const float cdot = dot(anchors_relative_velocity(bodies, ra, rb), axis);
+  float impulse = -(mass_scale / k) * (cdot + bias) - impulse_scale * accumulated;
+  const float max_impulse = max_joint_impulse(params, bodies, ra, rb);
+  const float total = accumulated + impulse;
+  if (std::fabs(total) > max_impulse) impulse = std::copysign(max_impulse, total) - accumulated;
+  accumulated += impulse;
+  apply_joint_impulse(bodies, ra, rb, impulse * axis);
+}
+
+inline void warm_start_revolute(JointBodies& bodies, const JointFrame& frame, FxVec2f impulse) {
+  apply_joint_impulse(bodies, rotate(bodies.a.delta_rotation, frame.anchor_a),
+                      rotate(bodies.b.delta_rotation, frame.anchor_b), impulse);
+}
+
+// One pass of a pin between the anchors: soft (use_bias) or rigid.
+inline void solve_revolute(JointBodies& bodies, const JointFrame& frame, FxVec2f& accumulated,
+                           const JointPassParams& params, bool use_bias) {
+  const FxVec2f ra = rotate(bodies.a.delta_rotation, frame.anchor_a);
+  const FxVec2f rb = rotate(bodies.b.delta_rotation, frame.anchor_b);
+  FxVec2f bias;
+  float mass_scale = 1.0f;
+  float impulse_scale = 0.0f;
+  if (use_bias) {
+    // Not capped at a speed, like the distance joint.
+    bias = params.softness.bias_rate * current_separation(bodies, frame, ra, rb);
+    mass_scale = params.softness.mass_scale;
+    impulse_scale = params.softness.impulse_scale;
+  }
+  // The point constraint's 2x2 effective-mass matrix K = J M^-1 J^T = m I + ia u u^T + ib v v^T,
+  // with m = ma + mb, u and v the anchors turned a quarter. Its determinant is taken in the form
+  // m^2 + m (ia |u|^2 + ib |v|^2) + ia ib (u x v)^2, a sum of non-negative terms: the textbook
+  // k00 k11 - k01^2 cancels catastrophically for a pin far from a light body, and a determinant
+  // made of rounding noise inverts into impulses that feed energy in.
+  const float ma = bodies.inv_mass_a, mb = bodies.inv_mass_b, ia = bodies.inv_inertia_a,
+              ib = bodies.inv_inertia_b;
+  const float m = ma + mb;
+  const float k00 = m + ra.y * ra.y * ia + rb.y * rb.y * ib;
+  const float k01 = -ra.y * ra.x * ia - rb.y * rb.x * ib;
+  const float k11 = m + ra.x * ra.x * ia + rb.x * rb.x * ib;
+  const float anchors_cross = cross(ra, rb);
+  const float determinant = m * m + m * (ia * length_squared(ra) + ib * length_squared(rb)) +
+                            ia * ib * anchors_cross * anchors_cross;
+  // No finite impulse exists when K is singular or overflowed: this pass leaves the bodies alone.
+  if (!(determinant > 0.0f && std::isfinite(determinant))) return;
+  const FxVec2f cdot = anchors_relative_velocity(bodies, ra, rb) + bias;
+  const float inv_determinant = 1.0f / determinant;
+  const FxVec2f solved = {inv_determinant * (k11 * cdot.x - k01 * cdot.y),
+                          inv_determinant * (k00 * cdot.y - k01 * cdot.x)};
+  FxVec2f impulse = -mass_scale * solved - impulse_scale * accumulated;
+  const float max_impulse = max_joint_impulse(params, bodies, ra, rb);
+  const FxVec2f total = accumulated + impulse;
+  const float total_length = length(total);
+  if (total_length > max_impulse) impulse = (max_impulse / total_length) * total - accumulated;
+  accumulated += impulse;
+  apply_joint_impulse(bodies, ra, rb, impulse);
+}
+
+}  // namespace fx2d::detail
