@@ -73,6 +73,17 @@ inline float max_joint_impulse(const JointPassParams& params, const JointBodies&
   return anchor_speed / (bodies.inv_mass_a + bodies.inv_mass_b);
 }
 
+// An accumulated impulse below which max_joint_impulse surely does not bind for the whole step, or
+// 0: the anchors turn within the step but keep their lengths to rounding, and a thousandth under
+// the limit at their lengths at the step's start covers that. Below it the clamp is skipped, with
+// its three square roots and a division, and the bits are those of taking it.
+inline float impulse_surely_within_limit(const JointPassParams& params, float inv_mass_sum,
+                                         const JointFrame& frame) {
+  const float anchor_speed = 2.0f * params.max_linear_speed +
+                             params.max_angular_speed * (length(frame.anchor_a) + length(frame.anchor_b));
+  return 0.999f * (anchor_speed / inv_mass_sum);
+}
+
 inline void warm_start_distance(JointBodies& bodies, const JointFrame& frame, float impulse) {
   const FxVec2f ra = rotate(bodies.a.delta_rotation, frame.anchor_a);
   const FxVec2f rb = rotate(bodies.b.delta_rotation, frame.anchor_b);
@@ -82,7 +93,8 @@ inline void warm_start_distance(JointBodies& bodies, const JointFrame& frame, fl
 
 // One pass of a rod of `rest_length` between the anchors: soft (use_bias) or rigid.
 inline void solve_distance(JointBodies& bodies, const JointFrame& frame, float rest_length,
-                           float& accumulated, const JointPassParams& params, bool use_bias) {
+                           float& accumulated, const JointPassParams& params, bool use_bias,
+                           float within_limit = 0.0f) {
   const FxVec2f ra = rotate(bodies.a.delta_rotation, frame.anchor_a);
   const FxVec2f rb = rotate(bodies.b.delta_rotation, frame.anchor_b);
   const FxVec2f separation = current_separation(bodies, frame, ra, rb);
@@ -109,9 +121,11 @@ inline void solve_distance(JointBodies& bodies, const JointFrame& frame, float r
   }
   const float cdot = dot(anchors_relative_velocity(bodies, ra, rb), axis);
   float impulse = -(mass_scale / k) * (cdot + bias) - impulse_scale * accumulated;
-  const float max_impulse = max_joint_impulse(params, bodies, ra, rb);
   const float total = accumulated + impulse;
-  if (std::fabs(total) > max_impulse) impulse = std::copysign(max_impulse, total) - accumulated;
+  if (!(std::fabs(total) < within_limit)) {
+    const float max_impulse = max_joint_impulse(params, bodies, ra, rb);
+    if (std::fabs(total) > max_impulse) impulse = std::copysign(max_impulse, total) - accumulated;
+  }
   accumulated += impulse;
   apply_joint_impulse(bodies, ra, rb, impulse * axis);
 }
@@ -123,7 +137,7 @@ inline void warm_start_revolute(JointBodies& bodies, const JointFrame& frame, Fx
 
 // One pass of a pin between the anchors: soft (use_bias) or rigid.
 inline void solve_revolute(JointBodies& bodies, const JointFrame& frame, FxVec2f& accumulated,
-                           const JointPassParams& params, bool use_bias) {
+                           const JointPassParams& params, bool use_bias, float within_limit = 0.0f) {
   const FxVec2f ra = rotate(bodies.a.delta_rotation, frame.anchor_a);
   const FxVec2f rb = rotate(bodies.b.delta_rotation, frame.anchor_b);
   FxVec2f bias;
@@ -156,10 +170,12 @@ inline void solve_revolute(JointBodies& bodies, const JointFrame& frame, FxVec2f
   const FxVec2f solved = {inv_determinant * (k11 * cdot.x - k01 * cdot.y),
                           inv_determinant * (k00 * cdot.y - k01 * cdot.x)};
   FxVec2f impulse = -mass_scale * solved - impulse_scale * accumulated;
-  const float max_impulse = max_joint_impulse(params, bodies, ra, rb);
   const FxVec2f total = accumulated + impulse;
-  const float total_length = length(total);
-  if (total_length > max_impulse) impulse = (max_impulse / total_length) * total - accumulated;
+  if (!(length_squared(total) < within_limit * within_limit)) {
+    const float max_impulse = max_joint_impulse(params, bodies, ra, rb);
+    const float total_length = length(total);
+    if (total_length > max_impulse) impulse = (max_impulse / total_length) * total - accumulated;
+  }
   accumulated += impulse;
   apply_joint_impulse(bodies, ra, rb, impulse);
 }

@@ -12,14 +12,14 @@ void JointRows::prepare(const Constraints& constraints, const Bodies& bodies, Fx
     owners_.push_back(constraint.get());
     if (constraint->provided_ == FxConstraint::Provided::none) {
       constraint->prepare(context);
-      rows_.push_back({Kind::user, 0, 0, 0.0f, 0.0f, 0.0f, 0.0f, {}, {}, 0.0f});
+      rows_.push_back({Kind::user, 0, 0, 0.0f, 0.0f, 0.0f, 0.0f, {}, {}, 0.0f, 0.0f});
       continue;
     }
     const std::uint32_t a = constraint->entity_a()->packed_index();
     const std::uint32_t b = constraint->entity_b()->packed_index();
     const BodySim& sa = bodies.sims[a];
     const BodySim& sb = bodies.sims[b];
-    Row row{Kind::user, a, b, sa.inv_mass, sa.inv_inertia, sb.inv_mass, sb.inv_inertia, {}, {}, 0.0f};
+    Row row{Kind::user, a, b, sa.inv_mass, sa.inv_inertia, sb.inv_mass, sb.inv_inertia, {}, {}, 0.0f, 0.0f};
     const auto frame = [&](FxVec2f local_anchor_a, FxVec2f local_anchor_b) {
       return joint_frame(start_anchor(sa.rotation, sa.local_center, local_anchor_a),
                          start_anchor(sb.rotation, sb.local_center, local_anchor_b),
@@ -38,12 +38,9 @@ void JointRows::prepare(const Constraints& constraints, const Bodies& bodies, Fx
       row.impulse = {fx_carried_impulse(joint.impulse_.x, context.impulse_ratio),
                      fx_carried_impulse(joint.impulse_.y, context.impulse_ratio)};
     }
+    row.within_limit = impulse_surely_within_limit(params_, sa.inv_mass + sb.inv_mass, row.frame);
     rows_.push_back(row);
   }
-}
-
-JointBodies JointRows::bodies_of(const Row& row, std::span<FxBodyState> states) {
-  return {states[row.a], states[row.b], row.inv_mass_a, row.inv_inertia_a, row.inv_mass_b, row.inv_inertia_b};
 }
 
 // Invariant of both loops: rows_ and owners_ are in the constraints' order, and a row's state
@@ -75,12 +72,12 @@ void JointRows::evaluate(std::span<FxBodyState> states, bool use_bias) {
     switch (row.kind) {
       case Kind::distance_joint: {
         JointBodies bodies = bodies_of(row, states);
-        solve_distance(bodies, row.frame, row.length, row.impulse.x, params_, use_bias);
+        solve_distance(bodies, row.frame, row.length, row.impulse.x, params_, use_bias, row.within_limit);
         break;
       }
       case Kind::revolute_joint: {
         JointBodies bodies = bodies_of(row, states);
-        solve_revolute(bodies, row.frame, row.impulse, params_, use_bias);
+        solve_revolute(bodies, row.frame, row.impulse, params_, use_bias, row.within_limit);
         break;
       }
       case Kind::user:

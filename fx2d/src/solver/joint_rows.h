@@ -37,9 +37,13 @@ class JointRows {
     JointFrame frame;
     FxVec2f impulse;  // a distance joint's in x
     float length;     // a distance joint's rest length
+    float within_limit;  // impulse_surely_within_limit()
   };
 
-  static JointBodies bodies_of(const Row& row, std::span<FxBodyState> states);
+  static JointBodies bodies_of(const Row& row, std::span<FxBodyState> states) {
+    return {states[row.a],     states[row.b],  row.inv_mass_a,
+            row.inv_inertia_a, row.inv_mass_b, row.inv_inertia_b};
+  }
 
   std::vector<Row> rows_;
   std::vector<FxConstraint*> owners_;  // per row, the constraint it stands for
