@@ -1,0 +1,71 @@
+#!/usr/bin/python3
+"""Writes the joint scenes beside this script: joint_grid.json and chain.json.
+
+    /usr/bin/python3 scenes/joints/make_joint_scenes.py
+
+The canonical scenes (SCENES.md) have no joint, so nothing in them times the joints' passes; these
+two do, with Fx2D against Box2D and ODE on the same bodies:
+- joint_grid: a 30 x 30 lattice of circles 1 m apart, each pinned to its right and lower
+  neighbours by revolute joints (1,740 joints), the top row held by every fifth circle being static;
+  it sags and sways under gravity. Primary metric: displacement.
+- chain: 200 links of 0.5 x 0.1 m pinned end to end, the first to a static anchor, released level;
+  the chain swings down. Deeper than any support chain the shallow schedule takes (32), so every
+  step runs the full schedule.
+"""
+import json
+import pathlib
+
+HERE = pathlib.Path(__file__).resolve().parent
+
+
+def scene(name, description, bodies, joints):
+    return {
+        "schema": "fx2d.scene/1",
+        "name": name,
+        "description": description,
+        "steps": 200,
+        "dt": 1 / 60,
+        "gravity": [0, -10],
+        "material": {"density": 1, "friction": 0.6, "restitution": 0},
+        "primary_metric": "displacement",
+        "bounds": {"lower": [-200, -50], "upper": [200, 300]},
+        "solver": {
+            "fx2d": {"substeps": 8, "velocity_passes": 2, "relax_passes": 3, "sleeping": False},
+            "box2d": {"velocity_iterations": 8, "position_iterations": 3, "sleeping": False},
+        },
+        "bodies": bodies,
+        "joints": joints,
+    }
+
+
+def joint_grid(n=30):
+    bodies, joints = [], []
+    for r in range(n):
+        for c in range(n):
+            pinned = r == 0 and c % 5 == 0
+            bodies.append({"type": "static" if pinned else "dynamic", "shape": {"circle": 0.4},
+                           "position": [c * 1.0, 60 - r * 1.0]})
+    for r in range(n):
+        for c in range(n):
+            k = r * n + c
+            if c + 1 < n and not (bodies[k]["type"] == "static" and bodies[k + 1]["type"] == "static"):
+                joints.append({"type": "revolute", "a": k, "b": k + 1, "anchor_a": [0.5, 0], "anchor_b": [-0.5, 0]})
+            if r + 1 < n:
+                joints.append({"type": "revolute", "a": k, "b": k + n, "anchor_a": [0, -0.5], "anchor_b": [0, 0.5]})
+    return scene("joint_grid", "A 30 x 30 lattice of circles pinned to their neighbours, hanging from "
+                 "every fifth circle of its top row (scenes/joints/make_joint_scenes.py).", bodies, joints)
+
+
+def chain(links=200):
+    bodies = [{"type": "static", "shape": {"circle": 0.1}, "position": [0, 50]}]
+    joints = []
+    for i in range(links):
+        bodies.append({"shape": {"box": [0.25, 0.05]}, "position": [0.25 + 0.5 * i, 50]})
+        joints.append({"type": "revolute", "a": i, "b": i + 1, "anchor_a": [0.25 if i else 0, 0],
+                       "anchor_b": [-0.25, 0]})
+    return scene("chain", "200 links pinned end to end from a static anchor, released level "
+                 "(scenes/joints/make_joint_scenes.py).", bodies, joints)
+
+
+for made in (joint_grid(), chain()):
+    (HERE / f"{made['name']}.json").write_text(json.dumps(made, separators=(",", ":")) + "\n")
