@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "collision/aabb_tree.h"
@@ -107,6 +108,44 @@ TEST(AabbTree, QueryReturnsExactlyTheOverlappingProxies) {
   const std::vector<Proxy> live = random_edits(tree, 11, 2000, [](const std::vector<Proxy>&) {});
   BoxSource source(99);
   expect_queries_match_brute_force(tree, live, source, 200);
+}
+
+// Every pair of overlapping leaves once, as (lower id, higher id), sorted.
+std::vector<std::pair<int, int>> overlapping_pairs(const AabbTree& tree) {
+  std::vector<std::pair<int, int>> pairs;
+  tree.for_each_overlapping_pair([&](int a, int b) { pairs.emplace_back(std::min(a, b), std::max(a, b)); });
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+// The tree walked against itself finds each overlapping pair of leaves exactly once, as a scan of
+// every two finds them: after random edits, and after a rebuild.
+TEST(AabbTree, WalkAgainstItselfFindsEachOverlappingPairOnce) {
+  AabbTree tree;
+  EXPECT_TRUE(overlapping_pairs(tree).empty());
+  std::vector<Proxy> live = random_edits(tree, 23, 1500, [](const std::vector<Proxy>&) {});
+  const auto brute_force = [&] {
+    std::vector<std::pair<int, int>> pairs;
+    for (std::size_t i = 0; i < live.size(); ++i) {
+      for (std::size_t j = i + 1; j < live.size(); ++j) {
+        if (overlaps(live[i].box, live[j].box)) {
+          pairs.emplace_back(std::min(live[i].id, live[j].id), std::max(live[i].id, live[j].id));
+        }
+      }
+    }
+    std::sort(pairs.begin(), pairs.end());
+    return pairs;
+  };
+  const std::vector<std::pair<int, int>> expected = brute_force();
+  ASSERT_GT(expected.size(), 100u);  // the boxes are dense enough to overlap often
+  EXPECT_EQ(overlapping_pairs(tree), expected);
+  BoxSource source(5);
+  for (Proxy& p : live) {
+    p.box = source.box();
+    tree.set_fat_box(p.id, p.box);
+  }
+  tree.rebuild();
+  EXPECT_EQ(overlapping_pairs(tree), brute_force());
 }
 
 TEST(AabbTree, RebuildAfterManyMovesKeepsIdsAndQueriesExactAndIsBalanced) {

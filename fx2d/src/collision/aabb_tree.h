@@ -60,6 +60,23 @@ class AabbTree {
     }
   }
 
+  // Calls visit(proxy, other) once for every two leaves whose fat boxes overlap: one walk of the
+  // tree against itself, which opens each pair of overlapping nodes once, where a query per leaf
+  // opens the path to every overlap from the root, and twice over. In a fixed order.
+  template <class Visit>
+  void for_each_overlapping_pair(Visit&& visit) const {
+    if (root_ == null_node) return;
+    // Each node pair opened leaves at most three waiting, and the walk goes at most twice the height deep.
+    const int deepest = 6 * (nodes_[root_].height + 1);
+    if (deepest <= local_pair_stack_size) {
+      NodePair stack[local_pair_stack_size];
+      walk_pairs(stack, visit);
+    } else {
+      std::vector<NodePair> stack(static_cast<std::size_t>(deepest));
+      walk_pairs(stack.data(), visit);
+    }
+  }
+
   int height() const;           // 0 for an empty tree or a single leaf
   int proxy_count() const { return proxy_count_; }
   // Sum of internal nodes' perimeters divided by the root's: the quality measure SAH minimises.
@@ -123,6 +140,41 @@ class AabbTree {
       } else {
         return;
       }
+    }
+  }
+
+  struct NodePair {
+    int a, b;
+  };
+  static constexpr int local_pair_stack_size = 256;
+
+  // A node paired with itself stands for every pair of leaves below it; two nodes, for every leaf
+  // of one with every leaf of the other, opened on the side with the larger box.
+  template <class Visit>
+  void walk_pairs(NodePair* stack, Visit& visit) const {
+    int size = 0;
+    stack[size++] = {root_, root_};
+    while (size > 0) {
+      const NodePair pair = stack[--size];
+      const Node& a = nodes_[pair.a];
+      if (pair.a == pair.b) {
+        if (a.is_leaf()) continue;
+        stack[size++] = {a.child2, a.child2};
+        stack[size++] = {a.child1, a.child1};
+        if (overlaps(nodes_[a.child1].box, nodes_[a.child2].box)) stack[size++] = {a.child1, a.child2};
+        continue;
+      }
+      const Node& b = nodes_[pair.b];
+      if (a.is_leaf() && b.is_leaf()) {
+        visit(pair.a, pair.b);
+        continue;
+      }
+      const bool open_a = b.is_leaf() || (!a.is_leaf() && a.box.perimeter() >= b.box.perimeter());
+      const Node& opened = open_a ? a : b;
+      const int kept = open_a ? pair.b : pair.a;
+      const FxAABB& kept_box = open_a ? b.box : a.box;
+      if (overlaps(nodes_[opened.child2].box, kept_box)) stack[size++] = {opened.child2, kept};
+      if (overlaps(nodes_[opened.child1].box, kept_box)) stack[size++] = {opened.child1, kept};
     }
   }
 
