@@ -22,10 +22,12 @@ namespace {
 // Fewer pairs of rounds than this are too few to split into halves that say anything.
 constexpr int min_rounds_to_split = 8;
 
-// One metric of one run, repeat-major [repeats x steps] like RunRecord's own series.
+// One metric of one run, repeat-major [repeats x steps] like RunRecord's own series, and whether
+// a repeat's figure is the mean of its steps rather than their median.
 struct MetricSamples {
   std::string name;
   std::vector<double> values;
+  bool per_repeat_mean = false;
 };
 
 // Fx2D's phases before each stage function had a timer of its own, each the sum of the stages
@@ -68,11 +70,13 @@ std::optional<std::vector<double>> folded_phase(const RunRecord& run, const RunR
   return sums;
 }
 
-// The step time, cycles and, with phases, each of `run`'s phases, then any old phase `other` names
-// folded from `run`'s stages.
+// The step time, the mean CPU time per step, cycles and, with phases, each of `run`'s phases, then any old
+// phase `other` names folded from `run`'s stages.
 std::vector<MetricSamples> metrics_of(const RunRecord& run, const RunRecord& other, bool with_phases) {
-  std::vector<MetricSamples> metrics = {{step_metric, run.wall_ms},
-                                        {"cycles_per_step", std::vector<double>(run.cycles.begin(), run.cycles.end())}};
+  std::vector<MetricSamples> metrics = {
+      {step_metric, run.wall_ms},
+      {mean_step_metric, run.cpu_ms, true},
+      {"cycles_per_step", std::vector<double>(run.cycles.begin(), run.cycles.end())}};
   if (!with_phases) return metrics;
   for (const std::string& name : run.phase_names) metrics.push_back({"phase:" + name, phase_samples(run, name)});
   for (const FoldedPhase& old : old_fx2d_phases) {
@@ -148,9 +152,11 @@ std::optional<CompareRow> speed_row(const RunPair& pair, const MetricSamples& a,
                                     const CompareSettings& settings) {
   const auto steps_a = static_cast<std::size_t>(pair.a.steps);
   const auto steps_b = static_cast<std::size_t>(pair.b.steps);
-  // Each repeat's median step, not its mean: statistics.h says why (preemption).
-  const std::vector<double> repeats_a = row_medians(a.values, steps_a);
-  const std::vector<double> repeats_b = row_medians(b.values, steps_b);
+  // Each repeat's median step, not its mean: statistics.h says why (preemption); the mean only for
+  // the metric that asks for it, of CPU time.
+  const auto per_repeat = a.per_repeat_mean ? row_means : row_medians;
+  const std::vector<double> repeats_a = per_repeat(a.values, steps_a);
+  const std::vector<double> repeats_b = per_repeat(b.values, steps_b);
   if (!measured(repeats_a) || !measured(repeats_b)) return std::nullopt;
 
   CompareRow row = row_for(pair, a.name);
@@ -169,7 +175,8 @@ std::optional<CompareRow> speed_row(const RunPair& pair, const MetricSamples& a,
     row.ratios_by_round_speed = ratios_by_round_speed(repeats_a, repeats_b);
     row.test = paired_sign_test(repeats_a, repeats_b);
     row.test_name = "sign-test-rounds";
-  } else if (steps_correspond(pair)) {
+  } else if (steps_correspond(pair) && !a.per_repeat_mean) {
+    // Step against step asks whether most steps changed; a mean moves with a few that did.
     row.test = paired_log_ratio_test(column_medians(a.values, steps_a), column_medians(b.values, steps_b));
     row.test_name = "wilcoxon-signed-rank-paired";
   } else {

@@ -30,6 +30,11 @@ inline constexpr const char* compare_schema = "fx2d-bench.compare/1";
 // instructions per step. Every other row (cycles, phases) is information.
 inline constexpr const char* step_metric = "ms_per_step";
 inline constexpr const char* instructions_metric = "instructions_per_step";
+// Information beside the step: each repeat's MEAN step in thread CPU time. It follows the total
+// work, as `run`'s ms/step (the speed table's figure) does, where the median step misses a change
+// confined to fewer than half the steps (a broad phase that spikes every fourth step); CPU time,
+// because preemption inflates a mean of wall time.
+inline constexpr const char* mean_step_metric = "mean_cpu_ms_per_step";
 
 struct CompareSettings {
   VerdictRules rules;

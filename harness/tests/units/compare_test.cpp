@@ -143,12 +143,14 @@ const CompareRow& row_of(const CompareReport& report, const std::string& engine,
 TEST_F(CompareFiles, IdenticalFilesAreNoChangeWithSamePhysicsAndExitZero) {
   const ResultSet results = results_of({synthetic_run("fx2d", "pile", 1.0, 0)});
   const CompareReport report = compare(results, results);
-  ASSERT_EQ(report.rows.size(), 4u);  // ms_per_step, cycles_per_step, phase:collide, phase:solve
+  ASSERT_EQ(report.rows.size(), 5u);  // ms_per_step, mean_cpu_ms_per_step, cycles_per_step, two phases
   for (const CompareRow& row : report.rows) {
     EXPECT_EQ(row.estimate.ratio, 1.0) << row.metric;
     EXPECT_EQ(row.speed.speed, Speed::no_change) << row.metric;
     EXPECT_EQ(row.same_physics, true);
-    EXPECT_EQ(row.test_name, "wilcoxon-signed-rank-paired");
+    // Step against step where steps correspond; the mean of a repeat against the others'.
+    EXPECT_EQ(row.test_name,
+              row.metric == "mean_cpu_ms_per_step" ? "mann-whitney-u" : "wilcoxon-signed-rank-paired");
     EXPECT_EQ(row.test->p_value, 1.0);
   }
   EXPECT_EQ(row_of(report, "fx2d", "pile", "ms_per_step").verdict(), "no change");
@@ -182,7 +184,7 @@ TEST_F(CompareFiles, OldPhaseNamesCompareWithTheSumsOfTheStagesTheyCovered) {
   const ResultSet old_file = results_of({with_phases(synthetic_run("fx2d", "pile", 1.0, 0), old_fx2d_phases)});
   const ResultSet new_file = results_of({with_phases(synthetic_run("fx2d", "pile", 1.0, 0), new_fx2d_phases)});
   for (const CompareReport& report : {compare(old_file, new_file), compare(new_file, old_file)}) {
-    ASSERT_EQ(report.rows.size(), 2u + old_fx2d_phases.size());  // ms, cycles, then every old phase
+    ASSERT_EQ(report.rows.size(), 3u + old_fx2d_phases.size());  // ms, mean CPU, cycles, then every old phase
     for (const auto& [name, share] : old_fx2d_phases) {
       const CompareRow& row = row_of(report, "fx2d", "pile", "phase:" + name);
       EXPECT_NEAR(row.estimate.ratio, 1.0, 1e-9) << name;
@@ -430,7 +432,7 @@ constexpr std::uint64_t reference_count = 40'000'000;
 TEST_F(CompareFiles, InstructionRowIsTheExactRatioWithNoTest) {
   const CompareReport report = compare(results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count)}),
                                        results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), 44'000'000)}));
-  ASSERT_EQ(report.rows.size(), 5u);  // ms, cycles, two phases, then instructions
+  ASSERT_EQ(report.rows.size(), 6u);  // ms, mean CPU, cycles, two phases, then instructions
   const CompareRow& row = report.rows.back();
   EXPECT_EQ(row.metric, "instructions_per_step");
   EXPECT_EQ(row.a, 1e6);
@@ -447,9 +449,9 @@ TEST_F(CompareFiles, InstructionRowIsTheExactRatioWithNoTest) {
   EXPECT_EQ(report.count_regressions(), 1);
   EXPECT_EQ(report.exit_code(), exit_regression);
   const auto json = compare_json(report);
-  EXPECT_TRUE(json["rows"][4]["p_value"].is_null());
-  EXPECT_EQ(json["rows"][4]["ci_low"], 1.1);
-  EXPECT_EQ(json["rows"][4]["regression"], true);
+  EXPECT_TRUE(json["rows"][5]["p_value"].is_null());
+  EXPECT_EQ(json["rows"][5]["ci_low"], 1.1);
+  EXPECT_EQ(json["rows"][5]["regression"], true);
 }
 
 TEST_F(CompareFiles, InstructionVerdictsAtTheToleranceEdges) {
@@ -497,12 +499,45 @@ TEST_F(CompareFiles, AFasterStepOnTheSameInstructionsIsFlaggedAsLikelyPlacement)
   EXPECT_TRUE(fewer.warnings.empty());
 }
 
+// `run` as if its costliest quarter of steps (the last, in a synthetic run) took `factor` times
+// as long in CPU and wall time alike: steps above the median already, which leave it in place.
+RunRecord with_costlier_tail(RunRecord run, double factor) {
+  const auto per_repeat = static_cast<std::size_t>(run.steps);
+  for (std::size_t i = 0; i < run.wall_ms.size(); ++i) {
+    if (i % per_repeat < per_repeat - per_repeat / 4) continue;
+    run.wall_ms[i] *= factor;
+    run.cpu_ms[i] *= factor;
+  }
+  return run;
+}
+
+// A change confined to a quarter of the steps leaves every repeat's median step where it was;
+// the mean CPU time per step, the figure `run` and the speed table report, sees it.
+TEST_F(CompareFiles, ACostInAQuarterOfTheStepsShowsInTheMeanRowNotInTheStepRow) {
+  const ResultSet a = results_of({synthetic_run("fx2d", "pile", 1.0, 0)});
+  const CompareReport report =
+      compare(a, results_of({with_costlier_tail(synthetic_run("fx2d", "pile", 1.0, 5), 1.8)}));
+  EXPECT_EQ(row_of(report, "fx2d", "pile", "ms_per_step").speed.speed, Speed::no_change);
+  const CompareRow& mean = row_of(report, "fx2d", "pile", "mean_cpu_ms_per_step");
+  EXPECT_EQ(mean.speed.speed, Speed::slower);
+  // The last 10 of 40 steps cost 0.845 ms on average, the whole run 0.695: 1 + 0.8 x 10 x 0.845 / (40 x
+  // 0.695).
+  EXPECT_NEAR(mean.estimate.ratio, 1.243, 0.02);
+  EXPECT_EQ(report.exit_code(), exit_ok);  // information: only the step and the instructions gate
+  // And the other way: a change that cuts those steps back is faster by the mean alone.
+  const CompareReport cut =
+      compare(results_of({with_costlier_tail(synthetic_run("fx2d", "pile", 1.0, 0), 1.8)}),
+              results_of({synthetic_run("fx2d", "pile", 1.0, 5)}));
+  EXPECT_EQ(row_of(cut, "fx2d", "pile", "mean_cpu_ms_per_step").speed.speed, Speed::faster);
+  EXPECT_EQ(row_of(cut, "fx2d", "pile", "ms_per_step").speed.speed, Speed::no_change);
+}
+
 TEST_F(CompareFiles, CountsOnOneSideGiveNoInstructionRowAndOneWarning) {
   const ResultSet a = results_of({counted(synthetic_run("fx2d", "pile", 1.0, 0), reference_count),
                                   counted(synthetic_run("fx2d", "stacks", 1.0, 0), reference_count)});
   const ResultSet b = results_of({synthetic_run("fx2d", "pile", 1.0, 5), synthetic_run("fx2d", "stacks", 1.0, 5)});
   const CompareReport report = compare(a, b);
-  EXPECT_EQ(report.rows.size(), 8u);  // ms, cycles and two phases for each scene; no instructions
+  EXPECT_EQ(report.rows.size(), 10u);  // ms, mean CPU, cycles and two phases for each scene; no instructions
   EXPECT_TRUE(std::ranges::none_of(report.rows, [](const CompareRow& row) { return row.metric == "instructions_per_step"; }));
   ASSERT_EQ(report.warnings.size(), 1u);
   EXPECT_NE(report.warnings[0].find("2 pairs of runs with instruction counts on one side only"), std::string::npos)
@@ -525,20 +560,21 @@ TEST_F(CompareFiles, OneFileComparesFx2dAgainstTheOtherEnginesWithoutGating) {
   EXPECT_NEAR(against_box2d.estimate.ratio, 0.5, 0.5 * 0.018);
   EXPECT_EQ(against_box2d.speed.speed, Speed::faster);
   EXPECT_FALSE(against_box2d.same_physics.has_value());
-  EXPECT_EQ(report.rows.size(), 4u);  // ms and cycles against each of two engines: no phases across engines
-  EXPECT_EQ(report.rows.at(2).against, "ode");
-  EXPECT_EQ(report.rows.at(2).speed.speed, Speed::slower);
+  EXPECT_EQ(report.rows.size(),
+            6u);  // ms, mean CPU and cycles against each of two engines: no phases across engines
+  EXPECT_EQ(report.rows.at(3).against, "ode");
+  EXPECT_EQ(report.rows.at(3).speed.speed, Speed::slower);
   EXPECT_EQ(report.exit_code(), exit_ok);  // fx2d slower than ode: a report, not a gate
 }
 
 TEST_F(CompareFiles, BaselineComparesEveryOtherEngineAgainstIt) {
   const CompareReport report = compare_files(write(three_engines(), "engines.h5"), std::nullopt, "box2d", {});
-  ASSERT_EQ(report.rows.size(), 4u);
+  ASSERT_EQ(report.rows.size(), 6u);
   EXPECT_EQ(report.rows[0].engine, "fx2d");
   EXPECT_EQ(report.rows[0].against, "box2d");
-  EXPECT_EQ(report.rows[2].engine, "ode");
-  EXPECT_EQ(report.rows[2].against, "box2d");
-  EXPECT_NEAR(report.rows[2].estimate.ratio, 0.25, 0.25 * 0.018);
+  EXPECT_EQ(report.rows[3].engine, "ode");
+  EXPECT_EQ(report.rows[3].against, "box2d");
+  EXPECT_NEAR(report.rows[3].estimate.ratio, 0.25, 0.25 * 0.018);
 }
 
 TEST_F(CompareFiles, CrossEngineViewShowsInstructionRowsWithoutGating) {
