@@ -53,6 +53,22 @@ INSTANTIATE_TEST_SUITE_P(Scenes, Fx2dCanonical,
                                   (param.param.workers > 1 ? "_workers" + std::to_string(param.param.workers) : "");
                          });
 
+// The joint scenes (scenes/joints/): the joints' rows are sized in the first step, and no step
+// after allocates either.
+TEST(Fx2dJointScenes, StepsAllocateNothingAfterWarmUp) {
+  for (const char* name : {"chain", "joint_grid"}) {
+    const SceneSpec scene =
+        load_scene_file(std::string(FX2D_SOURCE_DIR) + "/scenes/joints/" + name + ".json", SceneOverrides{});
+    auto engine = make_fx2d_engine();
+    engine->build(scene);
+    constexpr int warm_up = 3, steps = 60;
+    for (int i = 0; i < warm_up; ++i) engine->step();
+    const long long before = test::heap_allocations.load();
+    for (int i = warm_up; i < steps; ++i) engine->step();
+    EXPECT_EQ(test::heap_allocations.load() - before, 0) << name << ": allocations in steps " << warm_up << ".." << steps;
+  }
+}
+
 TEST(Fx2dCanonicalStacks, EveryBoxWithinFiveMillimetresAfterTwoHundredSteps) {
   const SceneSpec scene = canonical("stacks", 200);
   auto engine = make_fx2d_engine();
