@@ -65,7 +65,8 @@ TEST(Fx2dJointScenes, StepsAllocateNothingAfterWarmUp) {
     for (int i = 0; i < warm_up; ++i) engine->step();
     const long long before = test::heap_allocations.load();
     for (int i = warm_up; i < steps; ++i) engine->step();
-    EXPECT_EQ(test::heap_allocations.load() - before, 0) << name << ": allocations in steps " << warm_up << ".." << steps;
+    EXPECT_EQ(test::heap_allocations.load() - before, 0)
+        << name << ": allocations in steps " << warm_up << ".." << steps;
   }
 }
 
