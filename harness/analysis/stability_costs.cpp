@@ -36,7 +36,7 @@ constexpr PairCost measured_pairs[] = {
     {"chain_load", "fx2d", 0.04, 939.0121402415833},
     {"chain_load", "box2d", 0.01, 98.70149282610822},
     {"chain_load", "ode", 0.03, 22.627416997969522},
-    {"chain_load", "chipmunk", 0.01, 11.313708498984761},
+    {"chain_load", "chipmunk", 0.01, 34.896247445288246},
     {"far_start", "fx2d", 0.01, 1000.0},
     {"far_start", "box2d", 0.01, 1000.0},
     {"far_start", "ode", 0.01, 109.05077326652577},

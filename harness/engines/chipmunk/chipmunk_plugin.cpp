@@ -6,7 +6,8 @@
 // the centre of gravity; positions read back are body origins, as the scene's); one friction,
 // the dynamic one, given as its square root so that Chipmunk's product of two shapes' frictions is
 // their geometric mean, as in Box2D; restitution as Chipmunk combines it (the product); distance
-// joints are pin joints, revolute joints pivot joints at body A's anchor in the world.
+// joints are pin joints, revolute joints pivot joints at body A's anchor in the world, and the
+// bodies of either never collide with each other.
 // Chipmunk's defaults are tuned for pixels: the collision slop is a knob in metres instead.
 #include <chipmunk/chipmunk.h>
 extern "C" {  // chipmunk.h declares its own functions so; this header, outside it, does not
@@ -158,14 +159,20 @@ class ChipmunkWorld {
     }
   }
 
+  // Chipmunk lets a constraint's bodies collide unless told not to; in every other engine here,
+  // and in the scene format, bodies a joint connects never do.
   cpConstraint* make_joint(const Fx2dBenchJoint& spec) const {
     cpBody* a = fx2d_bench::joint_body(bodies_, spec.body_a).get();
     cpBody* b = fx2d_bench::joint_body(bodies_, spec.body_b).get();
-    if (spec.kind == FX2D_BENCH_REVOLUTE_JOINT)
-      return cpPivotJointNew(a, b, cpBodyLocalToWorld(a, to_cp(spec.local_anchor_a)));
-    cpConstraint* pin = cpPinJointNew(a, b, to_cp(spec.local_anchor_a), to_cp(spec.local_anchor_b));
-    if (spec.length >= 0.0) cpPinJointSetDist(pin, spec.length);
-    return pin;
+    cpConstraint* joint = nullptr;
+    if (spec.kind == FX2D_BENCH_REVOLUTE_JOINT) {
+      joint = cpPivotJointNew(a, b, cpBodyLocalToWorld(a, to_cp(spec.local_anchor_a)));
+    } else {
+      joint = cpPinJointNew(a, b, to_cp(spec.local_anchor_a), to_cp(spec.local_anchor_b));
+      if (spec.length >= 0.0) cpPinJointSetDist(joint, spec.length);
+    }
+    cpConstraintSetCollideBodies(joint, cpFalse);
+    return joint;
   }
 
   // What Chipmunk allocated for the scene, freed even when building it failed part way: the space

@@ -244,6 +244,29 @@ TEST_P(AdapterTest, JointsHoldTheirLengthAndPinWhileSwinging) {
   EXPECT_LT(distance(pin_on_1, pin_on_2), allowed_error);
 }
 
+// Two boxes overlapping by half their width, pinned together where they overlap, with no gravity:
+// bodies a joint connects never collide (scenes/README.md), so nothing pushes them apart. Were
+// they collided, the overlap would be pushed out against the pin and both would move.
+TEST_P(AdapterTest, JointedBodiesDoNotCollide) {
+  SceneSpec scene = scene_of({box_at({0.0, 0.0}), box_at({0.5, 0.0})});
+  scene.gravity = {0.0, 0.0};
+  JointSpec pin;
+  pin.kind = JointKind::revolute;
+  pin.body_a = 0;
+  pin.body_b = 1;
+  pin.local_anchor_a = {0.25, 0.0};
+  pin.local_anchor_b = {-0.25, 0.0};
+  scene.joints = {pin};
+
+  const std::vector<BodyState> state = run(*engine_, scene, 30);
+
+  EXPECT_EQ(engine_->contact_count(), 0);
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    EXPECT_NEAR(state[i].position.x, scene.bodies[i].position.x, 1e-3) << "box " << i;
+    EXPECT_NEAR(state[i].position.y, 0.0, 1e-3) << "box " << i;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Engines, AdapterTest, ::testing::Values(box2d_case, ode_case, chipmunk_case),
                          [](const ::testing::TestParamInfo<AdapterCase>& param) { return param.param.name; });
 
