@@ -201,20 +201,22 @@ TEST_P(AdapterTest, StackOfFiveBoxesStandsForTwoSeconds) {
   EXPECT_EQ(engine_->contact_count(), 5);
 }
 
+JointSpec joint_between(JointKind kind, int a, int b, Vec2 local_anchor_a = {},
+                        Vec2 local_anchor_b = {}) {
+  JointSpec joint;
+  joint.kind = kind;
+  joint.body_a = a;
+  joint.body_b = b;
+  joint.local_anchor_a = local_anchor_a;
+  joint.local_anchor_b = local_anchor_b;
+  return joint;
+}
+
 // A static post with a box hanging from it on a rigid rod, and a second box pinned to the first.
 SceneSpec pendulum_scene() {
   SceneSpec scene = scene_of({static_box({0.0, 10.0}, {0.1, 0.1}), box_at({3.0, 10.0}), box_at({4.0, 10.0})});
-  JointSpec rod;
-  rod.kind = JointKind::distance;
-  rod.body_a = 0;
-  rod.body_b = 1;
-  JointSpec pin;
-  pin.kind = JointKind::revolute;
-  pin.body_a = 1;
-  pin.body_b = 2;
-  pin.local_anchor_a = {0.5, 0.0};
-  pin.local_anchor_b = {-0.5, 0.0};
-  scene.joints = {rod, pin};
+  scene.joints = {joint_between(JointKind::distance, 0, 1),
+                  joint_between(JointKind::revolute, 1, 2, {0.5, 0.0}, {-0.5, 0.0})};
   return scene;
 }
 
@@ -250,13 +252,7 @@ TEST_P(AdapterTest, JointsHoldTheirLengthAndPinWhileSwinging) {
 TEST_P(AdapterTest, JointedBodiesDoNotCollide) {
   SceneSpec scene = scene_of({box_at({0.0, 0.0}), box_at({0.5, 0.0})});
   scene.gravity = {0.0, 0.0};
-  JointSpec pin;
-  pin.kind = JointKind::revolute;
-  pin.body_a = 0;
-  pin.body_b = 1;
-  pin.local_anchor_a = {0.25, 0.0};
-  pin.local_anchor_b = {-0.25, 0.0};
-  scene.joints = {pin};
+  scene.joints = {joint_between(JointKind::revolute, 0, 1, {0.25, 0.0}, {-0.25, 0.0})};
 
   const std::vector<BodyState> state = run(*engine_, scene, 30);
 
