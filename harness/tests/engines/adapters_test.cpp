@@ -201,8 +201,7 @@ TEST_P(AdapterTest, StackOfFiveBoxesStandsForTwoSeconds) {
   EXPECT_EQ(engine_->contact_count(), 5);
 }
 
-JointSpec joint_between(JointKind kind, int a, int b, Vec2 local_anchor_a = {},
-                        Vec2 local_anchor_b = {}) {
+JointSpec joint_between(JointKind kind, int a, int b, Vec2 local_anchor_a = {}, Vec2 local_anchor_b = {}) {
   JointSpec joint;
   joint.kind = kind;
   joint.body_a = a;
