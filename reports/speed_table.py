@@ -7,7 +7,10 @@
 For every scene, size and sleeping setting, runs `fx2d-bench run --engine fx2d,box2d --json` K
 times (`--runs`, default 1; both engines at their scene defaults, measured in the same process in
 alternating rounds, so a drift of the machine lands on both) and prints one Markdown row:
-the median ms per step of each, their ratio Fx2D / Box2D (with more than one run, the median of
+the ms per step of each as `run` gives it (the median over repeats of each repeat's MEAN step, so
+steps that cost more than most, a broad phase's spike every few steps, count in full; `ab` and
+`compare` judge the median step, with the mean beside it in their mean_cpu_ms_per_step row),
+their ratio Fx2D / Box2D (with more than one run, the median of
 the runs' ratios and their range), Fx2D's primary error (the scene's own
 metric: displacement for stacks, penetration otherwise), and where the cell stands against the
 targets the project set for it (issue 19: a ratio at most that of the fastest single-threaded 2D
