@@ -1,20 +1,21 @@
 // JointRows: the step's constraints in the order they were added. A joint Fx2D provides becomes a
 // plain record, its bodies' state indices and inverse masses looked up once a step, so that a pass
 // over it makes no virtual call and follows no pointer (through FxConstraintContext, each pass of
-// a pin made seven calls and took about 390 instructions). Each pass works out again what depends
-// on the poses alone (the turned anchors, K and its inverse, the bias), though those move only in
-// the position integration: kept per row once a substep instead, the passes ran 0.84 of the
-// instructions on joint_grid and 0.76 on chain (scenes/joints/) but took 1.12 and 1.05 times as
-// long (`ab`): a pass is bound by the chain of arithmetic from one body's velocity to the next,
-// beside which the pose's arithmetic ran for free, and storing it cost loads. Ordered by colour
-// (greedy, no two rows of a colour sharing a body that moves) so that rows overlap in the core,
-// the chain's mean step took 0.82 of its time but joint_grid's 1.02 (`run`, 3 repeats), and the
-// order is the Gauss-Seidel order, so every jointed result moves: not kept for the chain alone.
-// Solved on copies of the two states (which cannot alias), their velocities written back, the
-// mean step took 1.13 (joint_grid) and 1.15 (chain) times as long: the 32-byte copy of a state the
-// row before has just written waits for that store. A user's own
-// constraint keeps its calls through the context, in its place in the order, so the passes solve in the same
-// order as before.
+// a pin made seven calls and took about 390 instructions). A user's own constraint keeps its calls
+// through the context, in its place in the order, so the passes solve in the same order as before.
+//
+// Measured and not kept (scenes/joints/, mean step or `ab`, the same bits unless said):
+// - what depends on the poses alone (the turned anchors, K and its inverse, the bias) kept per row
+//   once a substep, as those move only in the position integration: 0.84 of the instructions on
+//   joint_grid and 0.76 on chain, but 1.12 and 1.05 times the time (`ab`). A pass is bound by the
+//   chain of arithmetic from one body's velocity to the next, beside which the pose's arithmetic
+//   ran for free, and storing it cost loads;
+// - the rows ordered by colour (greedy, no two rows of a colour sharing a body that moves), so that
+//   rows overlap in the core: chain 0.82, joint_grid 1.02, and every jointed result moves, since
+//   the order is the Gauss-Seidel order;
+// - each row solved on copies of its two states (which cannot alias), the velocities written back:
+//   1.13 and 1.15 times the time, as the 32-byte copy of a state the row before has just written
+//   waits for that store.
 #pragma once
 
 #include <cstdint>
