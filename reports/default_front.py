@@ -119,9 +119,11 @@ def describe(scene, bodies, points, candidates, runs):
                      f"{1000 * error(p):.2f} mm")
     for candidate in candidates:
         p = find(points, settings_of(candidate))
+        beaters = [label(q) for q in points if beats(q, p)]
         lines.append(f"    candidate {label(p)}: {p['ms_per_step']['median']:.4f} ms/step "
                      f"({p['ms_per_step']['median'] / default['ms_per_step']['median']:.2f}x), "
-                     f"{1000 * error(p):.2f} mm, beaten beyond noise by {sum(beats(q, p) for q in points)}")
+                     f"{1000 * error(p):.2f} mm, beaten beyond noise by {len(beaters)}"
+                     + (f" ({', '.join(beaters)})" if beaters else ""))
     return lines, bool(better)
 
 

@@ -723,5 +723,46 @@ TEST(ShallowSchedule, AColumnInFreeFallStandsOnNothing) {
   EXPECT_EQ(full_steps_of(scene, 30), 0);
 }
 
+struct Landing {
+  int most_soft_passes = 0;  // in any step
+  float fastest_rebound = 0.0f;
+};
+
+// A 10 cm box dropped flat onto the ground at `speed`, watched for a second.
+Landing land_flat(float speed, int impact_velocity_passes) {
+  FxSceneSettings settings;
+  settings.impact_velocity_passes = impact_velocity_passes;
+  FxScene scene(settings);
+  add_ground(scene);
+  const float half = 0.05f;
+  // Half a step of its fall above the ground, plus a few millimetres: it lands in its second step.
+  auto box = add_box(scene, {0.0f, half + 0.003f + 0.5f * speed * settings.dt}, half);
+  box->set_linear_velocity({0.0f, -speed});
+  Landing landing;
+  for (int step = 0; step < 60; ++step) {
+    scene.step();
+    landing.most_soft_passes = std::max(landing.most_soft_passes, scene.profile().velocity_passes);
+    landing.fastest_rebound = std::max(landing.fastest_rebound, box->linear_velocity().y);
+  }
+  return landing;
+}
+
+TEST(ImpactSchedule, AHardLandingTakesTheImpactPassesAndStops) {
+  // Faster than impact_schedule_speed: the landing step takes a second soft pass, and the box stops
+  // (it rebounds at 0.6 m/s, under the restitution threshold); with one soft pass its two points
+  // are left unconverged and it is thrown back up at 6.8 m/s.
+  const FxSceneSettings defaults;
+  ASSERT_GT(1000.0f, defaults.impact_schedule_speed);
+  const Landing hard = land_flat(1000.0f, defaults.impact_velocity_passes);
+  EXPECT_EQ(hard.most_soft_passes, 2);
+  EXPECT_LT(hard.fastest_rebound, defaults.restitution_threshold);
+  EXPECT_GT(land_flat(1000.0f, 1).fastest_rebound, 3.0f);
+  // Slower than it, every step takes the settings' one soft pass, and the box stops too.
+  ASSERT_LT(50.0f, defaults.impact_schedule_speed);
+  const Landing moderate = land_flat(50.0f, defaults.impact_velocity_passes);
+  EXPECT_EQ(moderate.most_soft_passes, defaults.velocity_passes);
+  EXPECT_LT(moderate.fastest_rebound, 0.1f);
+}
+
 }  // namespace
 }  // namespace fx2d

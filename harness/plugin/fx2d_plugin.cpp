@@ -114,6 +114,7 @@ enum Knob {
   workers,
   rest_schedule,
   shallow_schedule,
+  impact_velocity_passes,
   knob_count
 };
 
@@ -136,26 +137,28 @@ void set_workers(Settings& settings, int workers) {
   if constexpr (requires { settings.workers; }) settings.workers = workers;
 }
 
-// A switch of FxSceneSettings that older revisions lack, where `before` is what they did:
+// A setting of FxSceneSettings that older revisions lack, where `before` is what they did:
 // default_<name>() reads this revision's default, set_<name>() sets it where it exists.
-#define FX2D_BENCH_OPTIONAL_SWITCH(name, before)                   \
-  template <class Settings>                                        \
-  bool default_##name(const Settings& settings) {                  \
-    if constexpr (requires { settings.name; }) {                   \
-      return settings.name;                                        \
-    } else {                                                       \
-      return before;                                               \
-    }                                                              \
-  }                                                                \
-  template <class Settings>                                        \
-  void set_##name(Settings& settings, bool on) {                   \
-    if constexpr (requires { settings.name; }) settings.name = on; \
+#define FX2D_BENCH_OPTIONAL_SETTING(name, type, before)               \
+  template <class Settings>                                           \
+  type default_##name(const Settings& settings) {                     \
+    if constexpr (requires { settings.name; }) {                      \
+      return settings.name;                                           \
+    } else {                                                          \
+      return before;                                                  \
+    }                                                                 \
+  }                                                                   \
+  template <class Settings>                                           \
+  void set_##name(Settings& settings, type value) {                   \
+    if constexpr (requires { settings.name; }) settings.name = value; \
   }
 
-// Revisions from before the rest schedule take every step's passes from the settings, and those
-// from before the shallow schedule every step's that is not at rest.
-FX2D_BENCH_OPTIONAL_SWITCH(rest_schedule, false)
-FX2D_BENCH_OPTIONAL_SWITCH(shallow_schedule, false)
+// Revisions from before the rest schedule take every step's passes from the settings, those from
+// before the shallow schedule every step's that is not at rest, and those from before the impact
+// schedule give an impact's step no more soft passes than another's.
+FX2D_BENCH_OPTIONAL_SETTING(rest_schedule, bool, false)
+FX2D_BENCH_OPTIONAL_SETTING(shallow_schedule, bool, false)
+FX2D_BENCH_OPTIONAL_SETTING(impact_velocity_passes, int, 1)
 
 const Fx2dBenchKnob knobs[knob_count] = {
     {"substeps", FX2D_BENCH_KNOB_INTEGER, 1, 1000, static_cast<double>(engine_defaults.substeps),
@@ -174,6 +177,9 @@ const Fx2dBenchKnob knobs[knob_count] = {
      "one soft and one rigid pass per substep while every awake body rests"},
     {"shallow_schedule", FX2D_BENCH_KNOB_BOOLEAN, 0, 1, default_shallow_schedule(engine_defaults) ? 1.0 : 0.0,
      "one soft and one rigid pass per substep while no contact closes fast and no support chain is deep"},
+    {"impact_velocity_passes", FX2D_BENCH_KNOB_INTEGER, 1, 1000,
+     static_cast<double>(default_impact_velocity_passes(engine_defaults)),
+     "soft passes per substep, at least, in a step with a contact closing faster than 100 m/s"},
 };
 
 // Revisions from before FxSceneSettings::max_linear_speed accept any speed.
@@ -199,6 +205,7 @@ fx2d::FxSceneSettings scene_settings(const Fx2dBenchScene& scene) {
   set_workers(settings, static_cast<int>(knob[workers]));
   set_rest_schedule(settings, knob[rest_schedule] != 0.0);
   set_shallow_schedule(settings, knob[shallow_schedule] != 0.0);
+  set_impact_velocity_passes(settings, static_cast<int>(knob[impact_velocity_passes]));
   return settings;
 }
 

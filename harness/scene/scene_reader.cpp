@@ -92,7 +92,7 @@ void read_solver(ObjectReader& scene, SceneSpec& spec) {
   Json& blocks = scene.slot("solver", Json::object());
   ObjectReader solver(scene.errors(), blocks, scene.at("solver"));
   read_knob_blocks(solver, blocks, spec.knob_places);
-  record_defaults(solver, "fx2d", {{"substeps", 8}, {"velocity_passes", 2}, {"sleeping", true}});
+  record_defaults(solver, "fx2d", {{"substeps", 8}, {"velocity_passes", 1}, {"sleeping", true}});
   record_defaults(solver, "box2d",
                   {{"velocity_iterations", 8}, {"position_iterations", 3}, {"sleeping", true}});
   record_defaults(solver, "ode", {{"iterations", 20}, {"erp", 0.2}, {"cfm", 1e-5}, {"auto_disable", true}});

@@ -30,7 +30,7 @@ def scene(name, description, bodies, joints):
         "primary_metric": "displacement",
         "bounds": {"lower": [-200, -50], "upper": [200, 300]},
         "solver": {
-            "fx2d": {"substeps": 8, "velocity_passes": 2, "relax_passes": 3, "sleeping": False},
+            "fx2d": {"substeps": 8, "velocity_passes": 1, "relax_passes": 3, "sleeping": False},
             "box2d": {"velocity_iterations": 8, "position_iterations": 3, "sleeping": False},
         },
         "bodies": bodies,

@@ -44,9 +44,9 @@ struct FxProfile {
   std::array<std::uint64_t, fx_stage_count> stage_cycles{};  // reference cycles per stage, last step
   double step_ms = 0.0;                                      // whole step, wall clock
   std::uint64_t step_cycles = 0;
-  // The passes per substep the last step took: the settings', or one and one on the rest or the
-  // shallow schedule (FxSceneSettings::rest_schedule, shallow_schedule). Filled in with or without
-  // FX2D_PROFILE.
+  // The passes per substep the last step took: the settings', one and one on the rest or the
+  // shallow schedule, or more soft passes on the impact schedule (FxSceneSettings::rest_schedule,
+  // shallow_schedule, impact_schedule_speed). Filled in with or without FX2D_PROFILE.
   int velocity_passes = 0;
   int relax_passes = 0;
 

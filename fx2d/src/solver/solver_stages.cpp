@@ -74,16 +74,22 @@ bool keeps_rest(const BodyRecord& record, const BodySim& sim, const FxSceneSetti
          w * w < angular * angular;
 }
 
-// Whether the step is calm and shallow (FxSceneSettings::shallow_schedule): the closing speeds
-// first, as they cost one read per contact and rule out a step of impacts before any chain is
-// followed.
-bool takes_shallow_schedule(const FxSceneSettings& settings, SolverData& solver, const Bodies& bodies,
-                            const ContactCache& contacts, const Constraints& constraints) {
+// The passes of a step not at rest: the shallow schedule's, the impact schedule's or the settings'
+// (FxSceneSettings). The closing speed first, as it costs one read per contact and rules out a
+// shallow step of impacts before any chain is followed.
+PassCounts passes_of_moving_step(const FxSceneSettings& settings, SolverData& solver, const Bodies& bodies,
+                                 const ContactCache& contacts, const Constraints& constraints) {
   const std::span<const ConstraintSource> sources = solver.contact_solver.sources();
-  return settings.shallow_schedule &&
-         fastest_closing(sources, contacts, bodies) <= settings.shallow_schedule_speed &&
-         solver.support_chains.all_within(sources, constraints, solver.states,
-                                          settings.shallow_schedule_depth);
+  const float closing = fastest_closing(sources, contacts, bodies);
+  if (settings.shallow_schedule && closing <= settings.shallow_schedule_speed &&
+      solver.support_chains.all_within(sources, constraints, solver.states,
+                                       settings.shallow_schedule_depth)) {
+    return light_schedule_passes;
+  }
+  if (closing > settings.impact_schedule_speed) {
+    return {std::max(settings.velocity_passes, settings.impact_velocity_passes), settings.relax_passes};
+  }
+  return {settings.velocity_passes, settings.relax_passes};
 }
 
 }  // namespace
@@ -138,9 +144,8 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   integration.finish();
   solver.contact_solver.prepare(contacts, bodies);
   solver.at_rest = at_rest;
-  if (at_rest || takes_shallow_schedule(settings, solver, bodies, contacts, constraints)) {
-    solver.passes = light_schedule_passes;
-  }
+  solver.passes = at_rest ? light_schedule_passes
+                          : passes_of_moving_step(settings, solver, bodies, contacts, constraints);
 }
 
 void colour_and_pack(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts) {

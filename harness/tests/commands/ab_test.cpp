@@ -109,7 +109,8 @@ TEST_F(AbTest, PrebuiltPluginsGiveAFileThatCompareJudgesTheSameWay) {
   EXPECT_EQ(file.runs[1].engine, "fx2d@B");
   EXPECT_NE(file.runs[0].engine_version.find("a.so"), std::string::npos) << file.runs[0].engine_version;
   EXPECT_NE(file.runs[1].engine_version.find("b.so"), std::string::npos) << file.runs[1].engine_version;
-  EXPECT_EQ(file.runs[0].engine_settings, "relax_passes=3 sleeping=true substeps=8 velocity_passes=2");  // the scene's fx2d block
+  EXPECT_EQ(file.runs[0].engine_settings,
+            "relax_passes=3 sleeping=true substeps=8 velocity_passes=1");  // the scene's fx2d block
 
   const Ending compare = run_bench({"compare", out, "--json"}, directory_);
   EXPECT_EQ(compare.exit_code, ab.exit_code) << compare.err;

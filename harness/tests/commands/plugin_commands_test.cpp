@@ -285,7 +285,7 @@ TEST_F(PluginCommands, BuiltInEnginesBlocksAreCheckedByTheirKnobsInOneLineNaming
       {"fx2d", R"({"workers": 65})", "workers: expected an integer from 1 to 64, got 65"},
       {"fx2d", R"({"substep": 3})",
        "substep: not a knob of fx2d; expected one of substeps, velocity_passes, sleeping, relax_passes, "
-       "max_push_speed, workers, rest_schedule, shallow_schedule"},
+       "max_push_speed, workers, rest_schedule, shallow_schedule, impact_velocity_passes"},
       {"box2d", R"({"velocity_iterations": 0})",
        "velocity_iterations: expected an integer from 1 to 1000, got 0"},
       {"box2d", R"({"position_iterations": 2.5})",

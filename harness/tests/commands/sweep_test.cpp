@@ -72,13 +72,13 @@ TEST(SweepCommand, TwoPointGridGetsTheDefaultAddedAndConsistentFronts) {
   const auto json = nlohmann::json::parse(outcome.out);
   EXPECT_EQ(json["schema"], "fx2d-bench.sweep/1");
 
-  // substeps 2 and 4 at 1 pass, then the scene's own 8 x 2, which the grid lacks.
+  // substeps 2 and 4 at 1 pass, then the scene's own 8 x 1, which the grid lacks.
   const auto& points = json["points"];
   ASSERT_EQ(points.size(), 3u);
   EXPECT_EQ(points[0]["settings"]["substeps"], 2);
   EXPECT_EQ(points[1]["settings"]["substeps"], 4);
   EXPECT_EQ(points[2]["settings"]["substeps"], 8);
-  EXPECT_EQ(points[2]["settings"]["velocity_passes"], 2);
+  EXPECT_EQ(points[2]["settings"]["velocity_passes"], 1);
   for (std::size_t i = 0; i < points.size(); ++i) {
     EXPECT_EQ(points[i]["default"], i == 2);
     EXPECT_EQ(points[i]["primary_metric"], "displacement");
@@ -157,7 +157,8 @@ TEST(SweepCommand, SweepsRelaxationPassesWhenAskedAndKeepsTheSceneItselfAsTheDef
              file);
   std::fclose(file);
   const fs::path out = directory / "sweep.h5";
-  const std::string grid = "sweep " + scene.string() + " --engine fx2d --fx2d-substeps 8 --fx2d-passes 2 --repeats 1 --json";
+  const std::string grid =
+      "sweep " + scene.string() + " --engine fx2d --fx2d-substeps 8 --fx2d-passes 1 --repeats 1 --json";
   const Outcome relaxed = run_bench(grid + " --fx2d-relax 3,4 --out " + out.string());
   const Outcome plain = run_bench(grid);
   ASSERT_EQ(relaxed.exit_code, 0) << relaxed.out;
@@ -205,13 +206,13 @@ TEST(SweepCommand, NamingOneKnobOfAnEngineHoldsItsOthersAtTheScenesValues) {
 
   // A short form names its knob as --axis does: the passes alone, at the scene's 8 substeps.
   const Outcome passes =
-      run_bench("sweep " + scene + " --engine fx2d --fx2d-passes 1,4 --steps 20 --repeats 1 --json");
+      run_bench("sweep " + scene + " --engine fx2d --fx2d-passes 2,4 --steps 20 --repeats 1 --json");
   ASSERT_EQ(passes.exit_code, 0) << passes.out;
   const auto pass_points = nlohmann::json::parse(passes.out)["points"];
-  ASSERT_EQ(pass_points.size(), 3u);  // 1 and 4, then the scene's own 2
-  EXPECT_EQ(pass_points[0]["settings"], (nlohmann::json{{"velocity_passes", 1}}));
+  ASSERT_EQ(pass_points.size(), 3u);  // 2 and 4, then the scene's own 1
+  EXPECT_EQ(pass_points[0]["settings"], (nlohmann::json{{"velocity_passes", 2}}));
   EXPECT_EQ(pass_points[1]["settings"], (nlohmann::json{{"velocity_passes", 4}}));
-  EXPECT_EQ(pass_points[2]["settings"], (nlohmann::json{{"velocity_passes", 2}}));
+  EXPECT_EQ(pass_points[2]["settings"], (nlohmann::json{{"velocity_passes", 1}}));
   EXPECT_TRUE(pass_points[2]["default"].get<bool>());
 }
 

@@ -190,7 +190,8 @@ TEST(CanonicalScenes, StateTheCommonSettingsAndEachEnginesSolverSettings) {
       EXPECT_EQ(body.material.restitution, 0.0);
     }
     EXPECT_EQ(nlohmann::json::parse(scene.resolved_json)["solver"]["fx2d"],
-              nlohmann::json::parse(R"({"substeps": 8, "velocity_passes": 2, "relax_passes": 3, "sleeping": true})"));
+              nlohmann::json::parse(
+                  R"({"substeps": 8, "velocity_passes": 1, "relax_passes": 3, "sleeping": true})"));
     EXPECT_EQ(
         nlohmann::json::parse(scene.resolved_json)["solver"]["box2d"],
         nlohmann::json::parse(R"({"velocity_iterations": 8, "position_iterations": 3, "sleeping": true})"));
@@ -381,7 +382,7 @@ TEST(Defaults, MinimalSceneResolvesEveryTopLevelDefault) {
     "fx2d": {
       "sleeping": true,
       "substeps": 8,
-      "velocity_passes": 2
+      "velocity_passes": 1
     },
     "ode": {
       "auto_disable": true,
