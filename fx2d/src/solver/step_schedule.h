@@ -1,8 +1,10 @@
-// How many passes a step's substeps take (FxSceneSettings::rest_schedule, shallow_schedule): the
-// settings', or one soft and one rigid pass for a step that needs no more. What the extra passes
-// converge is what a step's motion and its load paths bring: an impact's momentum shared down a
-// row of bodies, and a load carried down a tall column, about one body further per pass. A step whose
-// contacts close slowly and whose bodies stand on short chains has neither.
+// How many passes a step's substeps take (FxSceneSettings::rest_schedule, shallow_schedule,
+// impact_schedule_speed): the settings', one soft and one rigid pass for a step that needs no more,
+// or more soft passes for a step of hard impacts. What the extra passes converge is what a step's
+// motion and its load paths bring: an impact's momentum shared down a row of bodies, and a load
+// carried down a tall column, about one body further per pass. A step whose contacts close slowly
+// and whose bodies stand on short chains has neither. A contact closing at hundreds of metres a
+// second leaves its two points far from agreeing after one soft pass, and a second one settles it.
 #pragma once
 
 #include <cstdint>
