@@ -157,8 +157,8 @@ TEST(Validation, SceneSettingsNameTheBadField) {
   s.shallow_schedule_speed = std::numeric_limits<float>::quiet_NaN();
   EXPECT_NE(error_of([&] { FxScene scene(s); }).find("shallow_schedule_speed"), std::string::npos);
   s = {};
-  s.impact_schedule_speed = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("impact_schedule_speed"), std::string::npos);
+  s.impact_schedule_travel = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("impact_schedule_travel"), std::string::npos);
   s = {};
   s.impact_velocity_passes = 0;
   EXPECT_NE(error_of([&] { FxScene scene(s); }).find("impact_velocity_passes"), std::string::npos);

@@ -726,15 +726,15 @@ TEST(ShallowSchedule, AColumnInFreeFallStandsOnNothing) {
 struct Landing {
   int most_soft_passes = 0;  // in any step
   float fastest_rebound = 0.0f;
+  float largest_tilt = 0.0f;  // radians
 };
 
-// A 10 cm box dropped flat onto the ground at `speed`, watched for a second.
-Landing land_flat(float speed, int impact_velocity_passes) {
+// A box of half-width `half` dropped flat onto the ground at `speed`, watched for a second.
+Landing land_flat(float half, float speed, int impact_velocity_passes) {
   FxSceneSettings settings;
   settings.impact_velocity_passes = impact_velocity_passes;
   FxScene scene(settings);
   add_ground(scene);
-  const float half = 0.05f;
   // Half a step of its fall above the ground, plus a few millimetres: it lands in its second step.
   auto box = add_box(scene, {0.0f, half + 0.003f + 0.5f * speed * settings.dt}, half);
   box->set_linear_velocity({0.0f, -speed});
@@ -743,25 +743,50 @@ Landing land_flat(float speed, int impact_velocity_passes) {
     scene.step();
     landing.most_soft_passes = std::max(landing.most_soft_passes, scene.profile().velocity_passes);
     landing.fastest_rebound = std::max(landing.fastest_rebound, box->linear_velocity().y);
+    landing.largest_tilt = std::max(landing.largest_tilt, std::fabs(box->angle()));
   }
   return landing;
 }
 
-TEST(ImpactSchedule, AHardLandingTakesTheImpactPassesAndStops) {
-  // Faster than impact_schedule_speed: the landing step takes a second soft pass, and the box stops
-  // (it rebounds at 0.6 m/s, under the restitution threshold); with one soft pass its two points
-  // are left unconverged and it is thrown back up at 6.8 m/s.
+// How far a box of half-width `half` landing at `speed` closes in one default substep, over the
+// motion past which continuous collision sweeps it (half its half-width): what
+// impact_schedule_travel bounds.
+float closing_share(float half, float speed) {
   const FxSceneSettings defaults;
-  ASSERT_GT(1000.0f, defaults.impact_schedule_speed);
-  const Landing hard = land_flat(1000.0f, defaults.impact_velocity_passes);
+  return speed * defaults.dt / static_cast<float>(defaults.substeps) / (0.5f * half);
+}
+
+TEST(ImpactSchedule, AHardLandingTakesTheImpactPassesAndStops) {
+  // A 10 cm box at 1000 m/s: the landing step takes a second soft pass, and the box stops (it
+  // rebounds at 0.6 m/s, under the restitution threshold); with one soft pass its two points are
+  // left unconverged and it is thrown back up at 6.8 m/s.
+  const FxSceneSettings defaults;
+  ASSERT_GT(closing_share(0.05f, 1000.0f), defaults.impact_schedule_travel);
+  const Landing hard = land_flat(0.05f, 1000.0f, defaults.impact_velocity_passes);
   EXPECT_EQ(hard.most_soft_passes, 2);
   EXPECT_LT(hard.fastest_rebound, defaults.restitution_threshold);
-  EXPECT_GT(land_flat(1000.0f, 1).fastest_rebound, 3.0f);
-  // Slower than it, every step takes the settings' one soft pass, and the box stops too.
-  ASSERT_LT(50.0f, defaults.impact_schedule_speed);
-  const Landing moderate = land_flat(50.0f, defaults.impact_velocity_passes);
-  EXPECT_EQ(moderate.most_soft_passes, defaults.velocity_passes);
-  EXPECT_LT(moderate.fastest_rebound, 0.1f);
+  EXPECT_GT(land_flat(0.05f, 1000.0f, 1).fastest_rebound, 3.0f);
+}
+
+TEST(ImpactSchedule, ASmallBoxLandingFastTakesItAndStaysFlat) {
+  // At 20 m/s a 10 cm box closes by 1.67 of that motion in a substep: a second soft pass keeps its
+  // tilt at 0.036 rad, where one lets it turn by 0.108 before the rigid passes agree.
+  const FxSceneSettings defaults;
+  ASSERT_GT(closing_share(0.05f, 20.0f), defaults.impact_schedule_travel);
+  const Landing small = land_flat(0.05f, 20.0f, defaults.impact_velocity_passes);
+  EXPECT_EQ(small.most_soft_passes, 2);
+  EXPECT_LT(small.largest_tilt, 0.05f);
+  EXPECT_GT(land_flat(0.05f, 20.0f, 1).largest_tilt, 0.08f);
+}
+
+TEST(ImpactSchedule, AUnitBoxLandingAsFastDoesNotNeedIt) {
+  // The same 20 m/s is 0.17 for a unit box: one soft pass, and it stays flat.
+  const FxSceneSettings defaults;
+  ASSERT_LT(closing_share(0.5f, 20.0f), defaults.impact_schedule_travel);
+  const Landing unit = land_flat(0.5f, 20.0f, defaults.impact_velocity_passes);
+  EXPECT_EQ(unit.most_soft_passes, defaults.velocity_passes);
+  EXPECT_LT(unit.largest_tilt, 0.01f);
+  EXPECT_LT(unit.fastest_rebound, 0.1f);
 }
 
 }  // namespace

@@ -179,7 +179,8 @@ const Fx2dBenchKnob knobs[knob_count] = {
      "one soft and one rigid pass per substep while no contact closes fast and no support chain is deep"},
     {"impact_velocity_passes", FX2D_BENCH_KNOB_INTEGER, 1, 1000,
      static_cast<double>(default_impact_velocity_passes(engine_defaults)),
-     "soft passes per substep, at least, in a step with a contact closing faster than 100 m/s"},
+     "soft passes per substep, at least, in a step with a contact closing fast for its bodies' size (impact "
+     "schedule)"},
 };
 
 // Revisions from before FxSceneSettings::max_linear_speed accept any speed.

@@ -46,7 +46,7 @@ struct FxProfile {
   std::uint64_t step_cycles = 0;
   // The passes per substep the last step took: the settings', one and one on the rest or the
   // shallow schedule, or more soft passes on the impact schedule (FxSceneSettings::rest_schedule,
-  // shallow_schedule, impact_schedule_speed). Filled in with or without FX2D_PROFILE.
+  // shallow_schedule, impact_schedule_travel). Filled in with or without FX2D_PROFILE.
   int velocity_passes = 0;
   int relax_passes = 0;
 

@@ -96,16 +96,20 @@ struct FxSceneSettings {
   bool shallow_schedule = true;
   int shallow_schedule_depth = 32;      // bodies, >= 0
   float shallow_schedule_speed = 3.0f;  // m/s, >= 0
-  // The impact schedule: a step in which some contact closes faster than impact_schedule_speed
-  // (measured as the shallow schedule measures it) takes impact_velocity_passes soft passes per
-  // substep where velocity_passes asks for fewer. One soft pass leaves a hard impact's two points
-  // unconverged: a 10 cm box landing flat at 1000 m/s is thrown back up at 6.8 m/s spinning at
-  // 122 rad/s, and falls through a 2 cm floor when it comes down (continuous_test); with two, it
-  // stops (0.6 m/s, 57 rad/s). Landing at 160 m/s it spins at 54 rad/s after one pass and 2.4
-  // after two; at up to 130 m/s, 10 rad/s at most against 2.4, and boxes of 0.5 and 1 m fare the
-  // same with one pass as with two up to 200 m/s. The canonical scenes' contacts close at 41 m/s
-  // at most (settling_boxes 3000), so they never take it.
-  float impact_schedule_speed = 100.0f;  // m/s, >= 0
+  // The impact schedule: a step in which some contact closes, within one substep, by more than
+  // impact_schedule_travel times the motion past which continuous collision sweeps the thinner of
+  // its bodies (half its least distance from centroid to surface; its closing speed measured as
+  // the shallow schedule measures it) takes impact_velocity_passes soft passes per substep where
+  // velocity_passes asks for fewer. In the substep that takes such an impact, one soft pass
+  // leaves the points of a face landing flat far apart, and the body turns before the rigid
+  // passes agree. A box landing flat tilts by (one soft pass / two; that closing share): 10 cm box
+  // at 5 m/s 0.004 / 0.002 rad (0.42), 10 m/s 0.026 / 0.013 (0.83), 20 m/s 0.108 / 0.036 (1.67),
+  // 40 m/s 0.325 / 0.075 (3.3); 1 m box at 20 m/s 0.006 / 0.001 (0.17), 40 m/s 0.030 / 0.018
+  // (0.33). At 1000 m/s one pass throws a 10 cm box back up at 6.8 m/s spinning at 122 rad/s, and
+  // it falls through a 2 cm floor when it comes down (continuous_test); with two it stops. The
+  // canonical scenes close by 0.34 at most (settling_boxes 3000; pile 1200 0.09), so they never
+  // take it.
+  float impact_schedule_travel = 0.5f;   // >= 0
   int impact_velocity_passes = 2;        // >= 1
   bool sleeping = true;                // let resting bodies sleep
   float time_to_sleep = 0.5f;          // seconds a whole island must rest before it sleeps

@@ -77,16 +77,18 @@ bool keeps_rest(const BodyRecord& record, const BodySim& sim, const FxSceneSetti
 // The passes of a step not at rest: the shallow schedule's, the impact schedule's or the settings'
 // (FxSceneSettings). The closing speed first, as it costs one read per contact and rules out a
 // shallow step of impacts before any chain is followed.
-PassCounts passes_of_moving_step(const FxSceneSettings& settings, SolverData& solver, const Bodies& bodies,
+PassCounts passes_of_moving_step(const StepContext& step, SolverData& solver, const Bodies& bodies,
                                  const ContactCache& contacts, const Constraints& constraints) {
+  const FxSceneSettings& settings = step.settings;
   const std::span<const ConstraintSource> sources = solver.contact_solver.sources();
-  const float closing = fastest_closing(sources, contacts, bodies);
-  if (settings.shallow_schedule && closing <= settings.shallow_schedule_speed &&
+  const Closing closing = closing_speeds(sources, contacts, bodies,
+                                         settings.impact_schedule_travel * step.contact.inv_substep_dt);
+  if (settings.shallow_schedule && closing.fastest <= settings.shallow_schedule_speed &&
       solver.support_chains.all_within(sources, constraints, solver.states,
                                        settings.shallow_schedule_depth)) {
     return light_schedule_passes;
   }
-  if (closing > settings.impact_schedule_speed) {
+  if (closing.impact) {
     return {std::max(settings.velocity_passes, settings.impact_velocity_passes), settings.relax_passes};
   }
   return {settings.velocity_passes, settings.relax_passes};
@@ -144,8 +146,8 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   integration.finish();
   solver.contact_solver.prepare(contacts, bodies);
   solver.at_rest = at_rest;
-  solver.passes = at_rest ? light_schedule_passes
-                          : passes_of_moving_step(settings, solver, bodies, contacts, constraints);
+  solver.passes =
+      at_rest ? light_schedule_passes : passes_of_moving_step(step, solver, bodies, contacts, constraints);
 }
 
 void colour_and_pack(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts) {

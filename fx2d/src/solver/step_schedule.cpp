@@ -9,17 +9,19 @@
 
 namespace fx2d::detail {
 
-float fastest_closing(std::span<const ConstraintSource> contacts, const ContactCache& cache,
-                      const Bodies& bodies) {
-  float fastest = 0.0f;
+Closing closing_speeds(std::span<const ConstraintSource> contacts, const ContactCache& cache,
+                       const Bodies& bodies, float impact_rate) {
+  Closing closing;
   for (const ConstraintSource& contact : contacts) {
     const BodySim& a = bodies.sims[contact.body_a];
     const BodySim& b = bodies.sims[contact.body_b];
     const FxVec2f normal = cache.slots[contact.cache_id].manifold.normal;
     const float spin = std::fabs(a.angular_velocity) * a.reach + std::fabs(b.angular_velocity) * b.reach;
-    fastest = std::max(fastest, dot(a.linear_velocity - b.linear_velocity, normal) + spin);
+    const float speed = dot(a.linear_velocity - b.linear_velocity, normal) + spin;
+    closing.fastest = std::max(closing.fastest, speed);
+    closing.impact |= speed > impact_rate * std::min(a.fast_motion, b.fast_motion);
   }
-  return fastest;
+  return closing;
 }
 
 void SupportChains::reserve(std::size_t bodies, std::size_t links) {

@@ -1,10 +1,11 @@
 // How many passes a step's substeps take (FxSceneSettings::rest_schedule, shallow_schedule,
-// impact_schedule_speed): the settings', one soft and one rigid pass for a step that needs no more,
+// impact_schedule_travel): the settings', one soft and one rigid pass for a step that needs no more,
 // or more soft passes for a step of hard impacts. What the extra passes converge is what a step's
 // motion and its load paths bring: an impact's momentum shared down a row of bodies, and a load
 // carried down a tall column, about one body further per pass. A step whose contacts close slowly
-// and whose bodies stand on short chains has neither. A contact closing at hundreds of metres a
-// second leaves its two points far from agreeing after one soft pass, and a second one settles it.
+// and whose bodies stand on short chains has neither. A contact that closes by much of its
+// bodies' size within one substep leaves its points far from agreeing after one soft pass, and
+// the body turns before a second one would have settled it.
 #pragma once
 
 #include <cstdint>
@@ -24,10 +25,17 @@ struct PassCounts {
 };
 inline constexpr PassCounts light_schedule_passes{1, 1};
 
-// The fastest any touching contact closes: the bodies' approach along its normal, plus what their
-// spins add at their farthest points (m/s; 0 with no contact).
-float fastest_closing(std::span<const ConstraintSource> contacts, const ContactCache& cache,
-                      const Bodies& bodies);
+// How fast the step's contacts close: each contact's bodies' approach along its normal, plus what
+// their spins add at their farthest points.
+struct Closing {
+  float fastest = 0.0f;  // m/s; 0 with no contact
+  // Whether a contact closes faster than `impact_rate` (1/s) times the smaller of its two bodies'
+  // fast_motion (the motion past which continuous collision sweeps a body: half its inner extent;
+  // infinite for one not dynamic).
+  bool impact = false;
+};
+Closing closing_speeds(std::span<const ConstraintSource> contacts, const ContactCache& cache,
+                       const Bodies& bodies, float impact_rate);
 
 // Whether a step at rest (every awake body has rested) measures its contacts' separations once,
 // at its start, rather than after each substep's position integration (SolverData::

@@ -52,7 +52,7 @@ void validate_settings(const FxSceneSettings& s) {
   require(s.shallow_schedule_depth >= 0, "shallow_schedule_depth", "an integer >= 0");
   require(std::isfinite(s.shallow_schedule_speed) && s.shallow_schedule_speed >= 0.0f,
           "shallow_schedule_speed", "a finite number >= 0");
-  require(s.impact_schedule_speed >= 0.0f, "impact_schedule_speed", "a number >= 0");
+  require(s.impact_schedule_travel >= 0.0f, "impact_schedule_travel", "a number >= 0");
   require(s.impact_velocity_passes >= 1, "impact_velocity_passes", "an integer >= 1");
   require(std::isfinite(s.time_to_sleep) && s.time_to_sleep >= 0.0f, "time_to_sleep", "a finite number >= 0");
   require(std::isfinite(s.linear_sleep_speed) && s.linear_sleep_speed >= 0.0f, "linear_sleep_speed", "a finite number >= 0");
