@@ -117,11 +117,11 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   BodyIntegration& integration = solver.integration;
   std::vector<FxBodyState>& states = solver.states;
   integration.clear(step.body_count, records.size());
-  solver.passes = {settings.velocity_passes, settings.relax_passes};
   // A world asleep gathers no state and builds no constraint (a touching constraint always has an
   // awake body): the stages after this one read only the empty lists of moving bodies and
-  // constraints.
+  // constraints. Its profile reports the settings' passes.
   if (bodies.awake_count == 0) {
+    solver.passes = {settings.velocity_passes, settings.relax_passes};
     integration.finish();
     solver.contact_solver.clear();
     return;
