@@ -162,6 +162,9 @@ TEST(Validation, SceneSettingsNameTheBadField) {
   s = {};
   s.impact_velocity_passes = 0;
   EXPECT_NE(error_of([&] { FxScene scene(s); }).find("impact_velocity_passes"), std::string::npos);
+  s = {};
+  s.joint_relax_passes = 0;
+  EXPECT_NE(error_of([&] { FxScene scene(s); }).find("joint_relax_passes"), std::string::npos);
 }
 
 TEST(Validation, EntityDefinitionsNameTheBadField) {

@@ -115,6 +115,7 @@ enum Knob {
   rest_schedule,
   shallow_schedule,
   impact_velocity_passes,
+  joint_relax_passes,
   knob_count
 };
 
@@ -159,6 +160,8 @@ void set_workers(Settings& settings, int workers) {
 FX2D_BENCH_OPTIONAL_SETTING(rest_schedule, bool, false)
 FX2D_BENCH_OPTIONAL_SETTING(shallow_schedule, bool, false)
 FX2D_BENCH_OPTIONAL_SETTING(impact_velocity_passes, int, 1)
+// Those from before joint_relax_passes take the joints into every rigid pass.
+FX2D_BENCH_OPTIONAL_SETTING(joint_relax_passes, int, 1000)
 
 const Fx2dBenchKnob knobs[knob_count] = {
     {"substeps", FX2D_BENCH_KNOB_INTEGER, 1, 1000, static_cast<double>(engine_defaults.substeps),
@@ -181,6 +184,9 @@ const Fx2dBenchKnob knobs[knob_count] = {
      static_cast<double>(default_impact_velocity_passes(engine_defaults)),
      "soft passes per substep, at least, in a step with a contact closing fast for its bodies' size (impact "
      "schedule)"},
+    {"joint_relax_passes", FX2D_BENCH_KNOB_INTEGER, 1, 1000,
+     static_cast<double>(default_joint_relax_passes(engine_defaults)),
+     "rigid passes per substep that include the joints; the others sweep the contacts alone"},
 };
 
 // Revisions from before FxSceneSettings::max_linear_speed accept any speed.
@@ -207,6 +213,7 @@ fx2d::FxSceneSettings scene_settings(const Fx2dBenchScene& scene) {
   set_rest_schedule(settings, knob[rest_schedule] != 0.0);
   set_shallow_schedule(settings, knob[shallow_schedule] != 0.0);
   set_impact_velocity_passes(settings, static_cast<int>(knob[impact_velocity_passes]));
+  set_joint_relax_passes(settings, static_cast<int>(knob[joint_relax_passes]));
   return settings;
 }
 

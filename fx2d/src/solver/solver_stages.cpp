@@ -215,13 +215,16 @@ class Substep {
     if (!solver_.separations_once) {
       solver_.contact_batches.update_separations(solver_.states, step_.contact.linear_slop, step_.tasks);
     }
-    for (int pass = 0; pass < solver_.passes.relax; ++pass) velocity_pass(FxStage::relax, false);
+    for (int pass = 0; pass < solver_.passes.relax; ++pass) {
+      velocity_pass(FxStage::relax, false, pass < step_.settings.joint_relax_passes);
+    }
   }
 
  private:
-  // One pass over every constraint, then every contact: contacts last, so they win conflicts.
-  void velocity_pass(FxStage stage, bool use_bias) {
-    if (!constraints_.empty()) {
+  // One pass over every constraint (unless `with_joints` is false), then every contact: contacts
+  // last, so they win conflicts.
+  void velocity_pass(FxStage stage, bool use_bias, bool with_joints = true) {
+    if (with_joints && !constraints_.empty()) {
       step_.clock.switch_to(FxStage::constraints);
       solver_.joint_rows.evaluate(solver_.states, use_bias);
     }

@@ -46,6 +46,7 @@ void validate_settings(const FxSceneSettings& s) {
   require(s.substeps >= 1, "substeps", "an integer >= 1");
   require(s.velocity_passes >= 1, "velocity_passes", "an integer >= 1");
   require(s.relax_passes >= 1, "relax_passes", "an integer >= 1");
+  require(s.joint_relax_passes >= 1, "joint_relax_passes", "an integer >= 1");
   require(s.position_passes >= 0, "position_passes", "an integer >= 0");
   require(std::isfinite(s.rest_schedule_time) && s.rest_schedule_time >= 0.0f, "rest_schedule_time",
           "a finite number >= 0");

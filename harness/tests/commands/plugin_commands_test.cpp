@@ -281,11 +281,14 @@ TEST_F(PluginCommands, BuiltInEnginesBlocksAreCheckedByTheirKnobsInOneLineNaming
   const std::vector<Case> cases{
       {"fx2d", R"({"sleeping": 1})", "sleeping: expected true or false, got 1"},
       {"fx2d", R"({"relax_passes": 0})", "relax_passes: expected an integer from 1 to 1000, got 0"},
+      {"fx2d", R"({"joint_relax_passes": 0})",
+       "joint_relax_passes: expected an integer from 1 to 1000, got 0"},
       {"fx2d", R"({"max_push_speed": 0})", "max_push_speed: expected a number from 0.001 to 1e+06, got 0"},
       {"fx2d", R"({"workers": 65})", "workers: expected an integer from 1 to 64, got 65"},
       {"fx2d", R"({"substep": 3})",
        "substep: not a knob of fx2d; expected one of substeps, velocity_passes, sleeping, relax_passes, "
-       "max_push_speed, workers, rest_schedule, shallow_schedule, impact_velocity_passes"},
+       "max_push_speed, workers, rest_schedule, shallow_schedule, impact_velocity_passes, "
+       "joint_relax_passes"},
       {"box2d", R"({"velocity_iterations": 0})",
        "velocity_iterations: expected an integer from 1 to 1000, got 0"},
       {"box2d", R"({"position_iterations": 2.5})",
