@@ -283,31 +283,8 @@ class Forwarding final : public FxConstraint {
   std::shared_ptr<FxConstraint> joint_;
 };
 
-// A chain of pins with a rod across it, swinging down from level with a heavy load; with
-// `forward_every` > 0 every such constraint, in order, is a user's Forwarding one. The bits of
-// every body's pose and velocity after two seconds.
-std::vector<std::uint32_t> swing_jointed_chain(int forward_every) {
-  FxSceneSettings settings;
-  settings.sleeping = false;
-  FxScene scene(settings);
-  std::vector<std::shared_ptr<FxEntity>> bodies{add_anchor(scene, {0.0f, 10.0f})};
-  std::vector<std::shared_ptr<FxConstraint>> joints;
-  FxEntityDef link;
-  link.shape = FxShape::box(0.25f, 0.05f);
-  for (int i = 0; i < 8; ++i) {
-    link.position = {0.25f + 0.5f * static_cast<float>(i), 10.0f};
-    link.material.density = i == 7 ? 50.0f : 1.0f;
-    bodies.push_back(scene.create_entity(link));
-    joints.push_back(std::make_shared<FxRevoluteJoint>(bodies[bodies.size() - 2], bodies.back(),
-                                                       FxVec2f{0.5f * static_cast<float>(i), 10.0f}));
-  }
-  joints.insert(joints.begin() + 4, std::make_shared<FxDistanceJoint>(
-                                        bodies[2], bodies[6], FxVec2f{0.2f, 0.0f}, FxVec2f{-0.2f, 0.05f}));
-  for (std::size_t i = 0; i < joints.size(); ++i) {
-    const bool forwarded = forward_every > 0 && i % static_cast<std::size_t>(forward_every) == 0;
-    scene.add_constraint(forwarded ? std::make_shared<Forwarding>(joints[i]) : joints[i]);
-  }
-  test::run(scene, 2.0f);
+// The bits of every body's pose and velocity.
+std::vector<std::uint32_t> pose_bits(const std::vector<std::shared_ptr<FxEntity>>& bodies) {
   std::vector<std::uint32_t> bits;
   for (const auto& body : bodies) {
     for (const float value :
@@ -319,14 +296,85 @@ std::vector<std::uint32_t> swing_jointed_chain(int forward_every) {
   return bits;
 }
 
-// The provided joints solved as the step's rows and solved through the public calls a user's
-// solver makes give the same bits, in any mix, the order of the constraints kept.
+// Six pendulums side by side, each two links pinned end to end and hung from an anchor by a rod
+// to the first link's free end, swinging down from level; with `forward_every` > 0 every such
+// constraint, in order, is a user's Forwarding one. The pendulums share no body, so the order in
+// which the step takes one pendulum's constraints against another's is moot, and each pendulum's
+// pin comes before its rod either way (the pins' batches first, then the other rows in order).
+// The pin joins two bodies that move, so every term of its arithmetic counts. The bits after two
+// seconds.
+std::vector<std::uint32_t> swing_pendulums(int forward_every) {
+  FxSceneSettings settings;
+  settings.sleeping = false;
+  FxScene scene(settings);
+  std::vector<std::shared_ptr<FxEntity>> bodies;
+  std::vector<std::shared_ptr<FxConstraint>> joints;
+  FxEntityDef link;
+  link.shape = FxShape::box(0.25f, 0.05f);
+  for (int i = 0; i < 6; ++i) {
+    const float x = 3.0f * static_cast<float>(i);
+    auto anchor = add_anchor(scene, {x, 10.5f});
+    link.position = {x + 0.25f, 10.0f};
+    auto first = scene.create_entity(link);
+    link.position = {x + 0.75f, 10.0f};
+    auto second = scene.create_entity(link);
+    joints.push_back(std::make_shared<FxRevoluteJoint>(first, second, FxVec2f{x + 0.5f, 10.0f}));
+    joints.push_back(std::make_shared<FxDistanceJoint>(anchor, first, FxVec2f{}, FxVec2f{-0.25f, 0.0f}));
+    bodies.insert(bodies.end(), {first, second});
+  }
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const bool forwarded = forward_every > 0 && i % static_cast<std::size_t>(forward_every) == 0;
+    scene.add_constraint(forwarded ? std::make_shared<Forwarding>(joints[i]) : joints[i]);
+  }
+  test::run(scene, 2.0f);
+  return pose_bits(bodies);
+}
+
+// The provided joints solved as the step's rows (the pins eight to a batch, in lanes) and solved
+// through the public calls a user's solver makes give the same bits, in any mix.
 TEST(Joints, RowsAndTheContextCallsGiveTheSameBits) {
-  const std::vector<std::uint32_t> as_rows = swing_jointed_chain(0);
-  EXPECT_EQ(swing_jointed_chain(1), as_rows);  // every constraint a user's
-  EXPECT_EQ(swing_jointed_chain(3), as_rows);  // user's and provided ones interleaved
-  // The chain did swing: the load moved from where it started.
-  EXPECT_NE(as_rows[8 * 6 + 1], std::bit_cast<std::uint32_t>(10.0f));
+  const std::vector<std::uint32_t> as_rows = swing_pendulums(0);
+  EXPECT_EQ(swing_pendulums(1), as_rows);  // every constraint a user's
+  EXPECT_EQ(swing_pendulums(3), as_rows);  // user's and provided ones interleaved
+  // The pendulums did swing: the first pendulum's second link fell from where it started.
+  EXPECT_NE(as_rows[6 + 1], std::bit_cast<std::uint32_t>(10.0f));
+}
+
+// A 12 x 12 lattice of circles pinned to their neighbours, hanging from two corners, and a chain
+// with a heavy load: the pins' batches, vectorised and lane by lane (the scalar twin), give the
+// same bits.
+std::vector<std::uint32_t> swing_lattice(bool force_scalar) {
+  FxSceneSettings settings;
+  settings.sleeping = false;
+  settings.force_scalar_solver = force_scalar;
+  FxScene scene(settings);
+  std::vector<std::shared_ptr<FxEntity>> bodies;
+  constexpr int side = 12;
+  for (int row = 0; row < side; ++row) {
+    for (int column = 0; column < side; ++column) {
+      const FxVec2f at{0.5f * static_cast<float>(column), 10.0f - 0.5f * static_cast<float>(row)};
+      bodies.push_back(add_circle(scene, at, 0.1f));
+      if (column > 0)
+        scene.add_constraint(std::make_shared<FxRevoluteJoint>(bodies[bodies.size() - 2], bodies.back(),
+                                                               at - FxVec2f{0.25f, 0.0f}));
+      if (row > 0)
+        scene.add_constraint(std::make_shared<FxRevoluteJoint>(bodies[bodies.size() - 1 - side],
+                                                               bodies.back(), at + FxVec2f{0.0f, 0.25f}));
+    }
+  }
+  scene.add_constraint(
+      std::make_shared<FxRevoluteJoint>(add_anchor(scene, {0.0f, 10.5f}), bodies[0], FxVec2f{0.0f, 10.25f}));
+  scene.add_constraint(std::make_shared<FxRevoluteJoint>(add_anchor(scene, {5.5f, 10.5f}), bodies[side - 1],
+                                                         FxVec2f{5.5f, 10.25f}));
+  test::run(scene, 2.0f);
+  return pose_bits(bodies);
+}
+
+TEST(Joints, BatchedPinsAgreeWithTheirScalarTwinToTheBit) {
+  const std::vector<std::uint32_t> lanes = swing_lattice(false);
+  EXPECT_EQ(swing_lattice(true), lanes);
+  // The lattice did swing: its last circle moved from where it started.
+  EXPECT_NE(lanes[lanes.size() - 6], std::bit_cast<std::uint32_t>(0.5f * 11.0f));
 }
 
 TEST(Joints, ConstraintRejectsBadEntities) {

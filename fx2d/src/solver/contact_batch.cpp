@@ -205,36 +205,6 @@ FX2D_LANE_INLINE void run_serial(ContactBatch& k, FxBodyState* states, const Con
   }
 }
 
-// The velocities of one batch's lanes as unit-stride arrays, for the solve loop; the bodies' flags
-// (the rows' fourth column) ride along unchanged.
-struct LaneVelocities {
-  alignas(32) float avx[lane_count], avy[lane_count], aw[lane_count], bvx[lane_count], bvy[lane_count], bw[lane_count];
-  LaneColumn a_flags, b_flags;
-};
-
-FX2D_LANE_INLINE void gather_velocities(const ContactBatch& k, const FxBodyState* __restrict states,
-                                        LaneVelocities& v) {
-  LaneColumns a_side, b_side;
-  gather_columns<velocity_row, BodyList::offsets>(states, k.state_a, a_side);
-  gather_columns<velocity_row, BodyList::offsets>(states, k.state_b, b_side);
-  to_lanes(a_side.c0, v.avx), to_lanes(a_side.c1, v.avy), to_lanes(a_side.c2, v.aw);
-  to_lanes(b_side.c0, v.bvx), to_lanes(b_side.c1, v.bvy), to_lanes(b_side.c2, v.bw);
-  v.a_flags = a_side.c3, v.b_flags = b_side.c3;
-}
-
-// Lanes that share a body (only static or kinematic ones, or the padding body) carry the same
-// unchanged values, so the order of the writes is moot; `Shared` leaves those bodies unwritten.
-template <bool Shared>
-FX2D_LANE_INLINE void scatter_velocities(const ContactBatch& k, FxBodyState* __restrict states,
-                                         const LaneVelocities& v) {
-  LaneColumns a_side, b_side;
-  from_lanes(v.avx, a_side.c0), from_lanes(v.avy, a_side.c1), from_lanes(v.aw, a_side.c2);
-  from_lanes(v.bvx, b_side.c0), from_lanes(v.bvy, b_side.c1), from_lanes(v.bw, b_side.c2);
-  a_side.c3 = v.a_flags, b_side.c3 = v.b_flags;
-  scatter_columns<velocity_row, Shared, BodyList::offsets>(states, k.state_a, a_side);
-  scatter_columns<velocity_row, Shared, BodyList::offsets>(states, k.state_b, b_side);
-}
-
 // Lane `lane` of one batch, on velocities gathered into `v`.
 template <LaneFn LaneSolve>
 FX2D_LANE_INLINE void solve_lane_of(ContactBatch& __restrict k, LaneVelocities& __restrict v, int lane,
@@ -270,23 +240,6 @@ FX2D_LANE_INLINE void run_batched(ContactBatch* __restrict k, FxBodyState* __res
   }
   scatter_velocities<Shared>(k[0], states, first);
   if constexpr (Count == 2) scatter_velocities<Shared>(k[1], states, second);
-}
-
-// Relative pose of the two bodies of every lane since the step began, gathered into columns, and
-// the normal as it has turned since then with the body whose face it is.
-struct LanePoses {
-  alignas(32) float dpx[lane_count], dpy[lane_count], aqc[lane_count], aqs[lane_count], bqc[lane_count], bqs[lane_count];
-  alignas(32) float nx[lane_count], ny[lane_count];
-};
-
-// Both bodies' displacements and turns since the step began, for every lane of one batch.
-FX2D_LANE_INLINE void gather_poses(const ContactBatch& __restrict k, const FxBodyState* __restrict states,
-                                   LanePoses& __restrict q) {
-  LaneColumns a, b;
-  gather_columns<pose_row, BodyList::offsets>(states, k.state_a, a);
-  gather_columns<pose_row, BodyList::offsets>(states, k.state_b, b);
-  to_lanes(b.c0 - a.c0, q.dpx), to_lanes(b.c1 - a.c1, q.dpy);
-  to_lanes(a.c2, q.aqc), to_lanes(a.c3, q.aqs), to_lanes(b.c2, q.bqc), to_lanes(b.c3, q.bqs);
 }
 
 // Every lane's normal turned as its NormalFrame says: with A, with B, or not at all. The last

@@ -66,11 +66,13 @@ inline FxVec2f current_separation(const JointBodies& bodies, const JointFrame& f
 // joints, such as two pins between one pair of bodies, otherwise trade impulse between themselves
 // without limit; once the lever arms turn, that internal impulse becomes real torque and grows
 // geometrically from substep to substep.
+inline float max_anchor_speed(const JointPassParams& params, FxVec2f anchor_a, FxVec2f anchor_b) {
+  return 2.0f * params.max_linear_speed + params.max_angular_speed * (length(anchor_a) + length(anchor_b));
+}
+
 inline float max_joint_impulse(const JointPassParams& params, const JointBodies& bodies, FxVec2f anchor_a,
                                FxVec2f anchor_b) {
-  const float anchor_speed =
-      2.0f * params.max_linear_speed + params.max_angular_speed * (length(anchor_a) + length(anchor_b));
-  return anchor_speed / (bodies.inv_mass_a + bodies.inv_mass_b);
+  return max_anchor_speed(params, anchor_a, anchor_b) / (bodies.inv_mass_a + bodies.inv_mass_b);
 }
 
 // An accumulated impulse below which max_joint_impulse surely does not bind for the whole step, or
@@ -79,9 +81,7 @@ inline float max_joint_impulse(const JointPassParams& params, const JointBodies&
 // its three square roots and a division, and the bits are those of taking it.
 inline float impulse_surely_within_limit(const JointPassParams& params, float inv_mass_sum,
                                          const JointFrame& frame) {
-  const float anchor_speed = 2.0f * params.max_linear_speed +
-                             params.max_angular_speed * (length(frame.anchor_a) + length(frame.anchor_b));
-  return 0.999f * (anchor_speed / inv_mass_sum);
+  return 0.999f * (max_anchor_speed(params, frame.anchor_a, frame.anchor_b) / inv_mass_sum);
 }
 
 inline void warm_start_distance(JointBodies& bodies, const JointFrame& frame, float impulse) {
@@ -135,6 +135,48 @@ inline void warm_start_revolute(JointBodies& bodies, const JointFrame& frame, Fx
                       rotate(bodies.b.delta_rotation, frame.anchor_b), impulse);
 }
 
+// What one pass of a pin works out before its impulse is clamped and applied: the impulse that
+// takes the anchors' relative velocity `cdot` (bias included) to zero through the point
+// constraint's 2x2 effective-mass matrix, softened, and whether that matrix could be inverted.
+// Branch-free, so that a loop over eight pins vectorises (pin_batches.cpp).
+struct PinImpulse {
+  FxVec2f impulse;
+  bool solvable;
+};
+
+inline PinImpulse pin_impulse(FxVec2f ra, FxVec2f rb, float ma, float mb, float ia, float ib, FxVec2f cdot,
+                              float mass_scale, float impulse_scale, FxVec2f accumulated) {
+  // K = J M^-1 J^T = m I + ia u u^T + ib v v^T, with m = ma + mb, u and v the anchors turned a
+  // quarter. Its determinant is taken in the form m^2 + m (ia |u|^2 + ib |v|^2) + ia ib (u x v)^2,
+  // a sum of non-negative terms: the textbook k00 k11 - k01^2 cancels catastrophically for a pin
+  // far from a light body, and a determinant made of rounding noise inverts into impulses that
+  // feed energy in.
+  const float m = ma + mb;
+  const float k00 = m + ra.y * ra.y * ia + rb.y * rb.y * ib;
+  const float k01 = -ra.y * ra.x * ia - rb.y * rb.x * ib;
+  const float k11 = m + ra.x * ra.x * ia + rb.x * rb.x * ib;
+  const float anchors_cross = cross(ra, rb);
+  const float determinant = m * m + m * (ia * length_squared(ra) + ib * length_squared(rb)) +
+                            ia * ib * anchors_cross * anchors_cross;
+  // No finite impulse exists when K is singular or overflowed (> FLT_MAX is infinite).
+  // Both comparisons taken, so that a lane loop needs no branch.
+  const bool solvable = (determinant > 0.0f) & (determinant <= 3.40282347e+38f);
+  const float inv_determinant = 1.0f / determinant;
+  const FxVec2f solved = {inv_determinant * (k11 * cdot.x - k01 * cdot.y),
+                          inv_determinant * (k00 * cdot.y - k01 * cdot.x)};
+  return {-mass_scale * solved - impulse_scale * accumulated, solvable};
+}
+
+// The impulse a pin applies once its accumulated total is held within max_joint_impulse (the
+// speed its anchors may close at, `anchor_speed`, over ma + mb).
+inline FxVec2f clamped_pin_impulse(FxVec2f impulse, FxVec2f accumulated, float anchor_speed,
+                                   float inv_mass_sum) {
+  const FxVec2f total = accumulated + impulse;
+  const float max_impulse = anchor_speed / inv_mass_sum;
+  const float total_length = length(total);
+  return total_length > max_impulse ? (max_impulse / total_length) * total - accumulated : impulse;
+}
+
 // One pass of a pin between the anchors: soft (use_bias) or rigid.
 inline void solve_revolute(JointBodies& bodies, const JointFrame& frame, FxVec2f& accumulated,
                            const JointPassParams& params, bool use_bias, float within_limit = 0.0f) {
@@ -149,32 +191,15 @@ inline void solve_revolute(JointBodies& bodies, const JointFrame& frame, FxVec2f
     mass_scale = params.softness.mass_scale;
     impulse_scale = params.softness.impulse_scale;
   }
-  // The point constraint's 2x2 effective-mass matrix K = J M^-1 J^T = m I + ia u u^T + ib v v^T,
-  // with m = ma + mb, u and v the anchors turned a quarter. Its determinant is taken in the form
-  // m^2 + m (ia |u|^2 + ib |v|^2) + ia ib (u x v)^2, a sum of non-negative terms: the textbook
-  // k00 k11 - k01^2 cancels catastrophically for a pin far from a light body, and a determinant
-  // made of rounding noise inverts into impulses that feed energy in.
-  const float ma = bodies.inv_mass_a, mb = bodies.inv_mass_b, ia = bodies.inv_inertia_a,
-              ib = bodies.inv_inertia_b;
-  const float m = ma + mb;
-  const float k00 = m + ra.y * ra.y * ia + rb.y * rb.y * ib;
-  const float k01 = -ra.y * ra.x * ia - rb.y * rb.x * ib;
-  const float k11 = m + ra.x * ra.x * ia + rb.x * rb.x * ib;
-  const float anchors_cross = cross(ra, rb);
-  const float determinant = m * m + m * (ia * length_squared(ra) + ib * length_squared(rb)) +
-                            ia * ib * anchors_cross * anchors_cross;
-  // No finite impulse exists when K is singular or overflowed: this pass leaves the bodies alone.
-  if (!(determinant > 0.0f && std::isfinite(determinant))) return;
-  const FxVec2f cdot = anchors_relative_velocity(bodies, ra, rb) + bias;
-  const float inv_determinant = 1.0f / determinant;
-  const FxVec2f solved = {inv_determinant * (k11 * cdot.x - k01 * cdot.y),
-                          inv_determinant * (k00 * cdot.y - k01 * cdot.x)};
-  FxVec2f impulse = -mass_scale * solved - impulse_scale * accumulated;
-  const FxVec2f total = accumulated + impulse;
-  if (!(length_squared(total) < within_limit * within_limit)) {
-    const float max_impulse = max_joint_impulse(params, bodies, ra, rb);
-    const float total_length = length(total);
-    if (total_length > max_impulse) impulse = (max_impulse / total_length) * total - accumulated;
+  const PinImpulse pin =
+      pin_impulse(ra, rb, bodies.inv_mass_a, bodies.inv_mass_b, bodies.inv_inertia_a, bodies.inv_inertia_b,
+                  anchors_relative_velocity(bodies, ra, rb) + bias, mass_scale, impulse_scale, accumulated);
+  // This pass leaves the bodies alone.
+  if (!pin.solvable) return;
+  FxVec2f impulse = pin.impulse;
+  if (!(length_squared(accumulated + impulse) < within_limit * within_limit)) {
+    impulse = clamped_pin_impulse(impulse, accumulated, max_anchor_speed(params, ra, rb),
+                                  bodies.inv_mass_a + bodies.inv_mass_b);
   }
   accumulated += impulse;
   apply_joint_impulse(bodies, ra, rb, impulse);

@@ -189,4 +189,59 @@ FX2D_LANE_INLINE void from_lanes(const float* lanes, LaneColumn& column) {
   std::memcpy(&column, lanes, sizeof column);
 }
 
+// What the batched passes gather of a batch's two bodies per lane, for any batch that names them by
+// state byte offsets in `state_a` and `state_b` (ContactBatch, PinBatch).
+//
+// The velocities as unit-stride arrays, for the solve loop; the bodies' flags (the rows' fourth
+// column) ride along unchanged.
+struct LaneVelocities {
+  alignas(32) float avx[lane_count], avy[lane_count], aw[lane_count], bvx[lane_count], bvy[lane_count],
+      bw[lane_count];
+  LaneColumn a_flags, b_flags;
+};
+
+template <class Batch>
+FX2D_LANE_INLINE void gather_velocities(const Batch& k, const FxBodyState* __restrict states,
+                                        LaneVelocities& v) {
+  LaneColumns a_side, b_side;
+  gather_columns<velocity_row, BodyList::offsets>(states, k.state_a, a_side);
+  gather_columns<velocity_row, BodyList::offsets>(states, k.state_b, b_side);
+  to_lanes(a_side.c0, v.avx), to_lanes(a_side.c1, v.avy), to_lanes(a_side.c2, v.aw);
+  to_lanes(b_side.c0, v.bvx), to_lanes(b_side.c1, v.bvy), to_lanes(b_side.c2, v.bw);
+  v.a_flags = a_side.c3, v.b_flags = b_side.c3;
+}
+
+// Lanes that share a body (only static or kinematic ones, or the padding body) carry the same
+// unchanged values, so the order of the writes is moot; `Shared` leaves those bodies unwritten.
+template <bool Shared, class Batch>
+FX2D_LANE_INLINE void scatter_velocities(const Batch& k, FxBodyState* __restrict states,
+                                         const LaneVelocities& v) {
+  LaneColumns a_side, b_side;
+  from_lanes(v.avx, a_side.c0), from_lanes(v.avy, a_side.c1), from_lanes(v.aw, a_side.c2);
+  from_lanes(v.bvx, b_side.c0), from_lanes(v.bvy, b_side.c1), from_lanes(v.bw, b_side.c2);
+  a_side.c3 = v.a_flags, b_side.c3 = v.b_flags;
+  scatter_columns<velocity_row, Shared, BodyList::offsets>(states, k.state_a, a_side);
+  scatter_columns<velocity_row, Shared, BodyList::offsets>(states, k.state_b, b_side);
+}
+
+// Relative pose of the two bodies of every lane since the step began, gathered into columns, and
+// (for contacts, contact_batch.cpp) the normal as it has turned since then with the body whose face
+// it is.
+struct LanePoses {
+  alignas(32) float dpx[lane_count], dpy[lane_count], aqc[lane_count], aqs[lane_count], bqc[lane_count],
+      bqs[lane_count];
+  alignas(32) float nx[lane_count], ny[lane_count];
+};
+
+// Both bodies' displacements and turns since the step began, for every lane of one batch.
+template <class Batch>
+FX2D_LANE_INLINE void gather_poses(const Batch& __restrict k, const FxBodyState* __restrict states,
+                                   LanePoses& __restrict q) {
+  LaneColumns a, b;
+  gather_columns<pose_row, BodyList::offsets>(states, k.state_a, a);
+  gather_columns<pose_row, BodyList::offsets>(states, k.state_b, b);
+  to_lanes(b.c0 - a.c0, q.dpx), to_lanes(b.c1 - a.c1, q.dpy);
+  to_lanes(a.c2, q.aqc), to_lanes(a.c3, q.aqs), to_lanes(b.c2, q.bqc), to_lanes(b.c3, q.bqs);
+}
+
 }  // namespace fx2d::detail

@@ -171,7 +171,7 @@ class Substep {
       : step_(step), solver_(solver), constraints_(constraints), joints_(step, solver, bodies) {
     if (constraints_.empty()) return;
     step_.clock.switch_to(FxStage::constraints);
-    solver_.joint_rows.prepare(constraints_, bodies, joints_);
+    solver_.joint_rows.prepare(constraints_, bodies, joints_, solver_.states);
   }
 
   // Keeps the joints' impulses for the next step's warm start.
@@ -191,7 +191,7 @@ class Substep {
   void warm_start() {
     if (!constraints_.empty()) {
       step_.clock.switch_to(FxStage::constraints);
-      solver_.joint_rows.warm_start(solver_.states);
+      solver_.joint_rows.warm_start(solver_.states, step_.settings.force_scalar_solver);
     }
     step_.clock.switch_to(FxStage::warm_start);
     solver_.contact_batches.warm_start(solver_.states, step_.settings.force_scalar_solver, step_.tasks);
@@ -226,7 +226,7 @@ class Substep {
   void velocity_pass(FxStage stage, bool use_bias, bool with_joints = true) {
     if (with_joints && !constraints_.empty()) {
       step_.clock.switch_to(FxStage::constraints);
-      solver_.joint_rows.evaluate(solver_.states, use_bias);
+      solver_.joint_rows.evaluate(solver_.states, use_bias, step_.settings.force_scalar_solver);
     }
     step_.clock.switch_to(stage);
     solver_.contact_batches.resolve_velocities(solver_.states, step_.contact, use_bias, point_order_,

@@ -1,0 +1,66 @@
+// PinBatches: the step's revolute joints (pins) in eight-lane batches, each colour's pins sharing no
+// body that moves, so that a pass solves eight at once as one vectorised loop (pin_batches.cpp),
+// as the contacts are (contact_batch.h). The arithmetic of a lane is a pin's own
+// (joint_arithmetic.h); what changes is the Gauss-Seidel order: colour by colour, each colour's pins
+// in the order they were added, instead of every pin in that order.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "fx2d/Constraint.h"
+#include "solver/joint_arithmetic.h"
+#include "solver/lane_rows.h"
+
+namespace fx2d::detail {
+
+// Eight pins, a column per field. A padding lane names the padding state and has no mass, so its
+// impulse is never solvable and it writes nothing.
+struct PinBatch {
+  std::uint32_t state_a[lane_count];  // byte offsets of the bodies' states (BodyList::offsets)
+  std::uint32_t state_b[lane_count];
+  float inv_mass_a[lane_count], inv_inertia_a[lane_count], inv_mass_b[lane_count], inv_inertia_b[lane_count];
+  // JointFrame: the anchors at the step's start, and anchor b minus anchor a then.
+  float anchor_ax[lane_count], anchor_ay[lane_count], anchor_bx[lane_count], anchor_by[lane_count];
+  float separation_x[lane_count], separation_y[lane_count];
+  float impulse_x[lane_count], impulse_y[lane_count];  // accumulated
+  float within_limit[lane_count];                      // impulse_surely_within_limit()
+};
+
+// One pin as the rows give it to pack().
+struct PinSource {
+  std::uint32_t state_a, state_b;
+  float inv_mass_a, inv_inertia_a, inv_mass_b, inv_inertia_b;
+  JointFrame frame;
+  FxVec2f impulse;
+  float within_limit;
+};
+
+class PinBatches {
+ public:
+  // Colours `pins` greedily in their order (a body without movable_flag in `states` takes part in
+  // any number of a colour's pins) and packs each colour into batches. Returns, per pin, whether it
+  // was packed: one that finds no colour among the first max_colours is left to the caller.
+  // `padding_state` indexes a state that is never read back.
+  void pack(std::span<const PinSource> pins, std::span<const FxBodyState> states, std::uint32_t padding_state,
+            std::vector<std::uint8_t>& packed);
+  // Every batch's kept impulses applied again; one pass, soft (use_bias) or rigid. With `scalar`,
+  // lane by lane in the same order (the scalar twin; the same bits).
+  void warm_start(std::span<FxBodyState> states, bool scalar);
+  void solve(std::span<FxBodyState> states, const JointPassParams& params, bool use_bias, bool scalar);
+  // The accumulated impulse of pin `pin` (an index into pack()'s pins), which pack() packed.
+  FxVec2f impulse(std::size_t pin) const;
+  bool empty() const { return batch_count_ == 0; }
+
+  static constexpr int max_colours = 32;
+
+ private:
+  std::vector<PinBatch> batches_;
+  int batch_count_ = 0;
+  std::vector<int> lanes_;               // per pin, batch * lane_count + lane, or -1
+  std::vector<std::uint32_t> colours_;   // per state, a bit per colour that holds it (scratch)
+  std::vector<std::uint8_t> colour_of_;  // per pin (scratch)
+};
+
+}  // namespace fx2d::detail
