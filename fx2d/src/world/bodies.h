@@ -19,6 +19,9 @@
 
 namespace fx2d::detail {
 
+// Its fields that every step scans (type, flags, proxy, contact list) first, in the record's first
+// cache line ahead of the 152-byte shape, changed nothing: settling_boxes 800's step 1.003
+// [0.992, 1.008] (`ab`, sleeping off; every stage within 0.5%).
 struct BodyRecord {
   std::shared_ptr<FxEntity> handle;
   FxShape shape;
