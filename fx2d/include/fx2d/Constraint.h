@@ -6,10 +6,12 @@
 // precision. For a user's own constraint the solver calls, per step: prepare() once (where a
 // constraint that warm starts scales its kept impulse by the context's impulse_ratio); then per
 // substep warm_start() once and evaluate() once per velocity pass with use_bias (correct position
-// error) and once per relaxation pass without it. The joints Fx2D provides it solves itself, with
-// the same arithmetic and in the same order among the others, making no virtual call per pass;
-// their own prepare(), warm_start() and evaluate() serve a user's solver, or a constraint of the
-// user's that hands its calls on to one of them.
+// error) and once without it in each of the first FxSceneSettings::joint_relax_passes relaxation
+// passes. The joints Fx2D provides it solves itself, with the same arithmetic, making no virtual
+// call per pass: the revolute joints first, coloured so that no two of a colour share a moving
+// body and solved eight at a time, colour by colour; then the distance joints and the user's
+// constraints in the order they were added. Their own prepare(), warm_start() and evaluate()
+// serve a user's solver, or a constraint of the user's that hands its calls on to one of them.
 //
 // Two entities joined by a constraint never collide with each other.
 //
