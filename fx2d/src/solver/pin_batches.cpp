@@ -80,16 +80,17 @@ FX2D_LANE_INLINE bool solve_lane(PinBatch& k, PinLanes& v, int lane, const Joint
   return pin.solvable & !(length_squared(accumulated + impulse) < limit * limit);
 }
 
-// The clamp and the impulse's application, for one lane.
-FX2D_LANE_INLINE void finish_lane(PinBatch& k, PinLanes& v, int lane, const JointPassParams& p,
-                                  TurnedAnchors r, FxVec2f impulse, bool clamp) {
-  const FxVec2f accumulated{k.impulse_x[lane], k.impulse_y[lane]};
-  if (clamp) {
-    impulse = clamped_pin_impulse(impulse, accumulated, max_anchor_speed(p, r.ra, r.rb),
-                                  k.inv_mass_a[lane] + k.inv_mass_b[lane]);
-  }
-  k.impulse_x[lane] = accumulated.x + impulse.x;
-  k.impulse_y[lane] = accumulated.y + impulse.y;
+// The impulse a lane applies once the clamp holds its accumulated total (clamped_pin_impulse()).
+FX2D_LANE_INLINE FxVec2f clamped(const PinBatch& k, int lane, const JointPassParams& p, TurnedAnchors r,
+                                 FxVec2f impulse) {
+  return clamped_pin_impulse(impulse, FxVec2f{k.impulse_x[lane], k.impulse_y[lane]},
+                             max_anchor_speed(p, r.ra, r.rb), k.inv_mass_a[lane] + k.inv_mass_b[lane]);
+}
+
+// Adds a lane's impulse to its accumulated one and applies it to the lane's bodies.
+FX2D_LANE_INLINE void accumulate(PinBatch& k, PinLanes& v, int lane, TurnedAnchors r, FxVec2f impulse) {
+  k.impulse_x[lane] += impulse.x;
+  k.impulse_y[lane] += impulse.y;
   apply(k, v, lane, r, impulse);
 }
 
@@ -110,26 +111,19 @@ FX2D_LANE_INLINE void solve_batch(PinBatch& k, FxBodyState* __restrict states, c
     rax[lane] = r.ra.x, ray[lane] = r.ra.y, rbx[lane] = r.rb.x, rby[lane] = r.rb.y;
     ix[lane] = impulse.x, iy[lane] = impulse.y;
   }
+  const auto anchors = [&](int lane) {
+    return TurnedAnchors{{rax[lane], ray[lane]}, {rbx[lane], rby[lane]}};
+  };
   std::int32_t any_clamp = 0;
   for (int lane = 0; lane < lane_count; ++lane) any_clamp |= clamp[lane];
-  if (any_clamp != 0) {
-    for (int lane = 0; lane < lane_count; ++lane) {
-      if (clamp[lane] == 0) continue;
-      const FxVec2f accumulated{k.impulse_x[lane], k.impulse_y[lane]};
-      const FxVec2f clamped = clamped_pin_impulse(
-          FxVec2f{ix[lane], iy[lane]}, accumulated,
-          max_anchor_speed(p, FxVec2f{rax[lane], ray[lane]}, FxVec2f{rbx[lane], rby[lane]}),
-          k.inv_mass_a[lane] + k.inv_mass_b[lane]);
-      ix[lane] = clamped.x, iy[lane] = clamped.y;
-    }
+  for (int lane = 0; any_clamp != 0 && lane < lane_count; ++lane) {
+    if (clamp[lane] == 0) continue;
+    const FxVec2f impulse = clamped(k, lane, p, anchors(lane), FxVec2f{ix[lane], iy[lane]});
+    ix[lane] = impulse.x, iy[lane] = impulse.y;
   }
   // check-vectorized(2): the lane loop below, soft and rigid, must be vectorised
-  for (int lane = 0; lane < lane_count; ++lane) {
-    const FxVec2f impulse{ix[lane], iy[lane]};
-    k.impulse_x[lane] += impulse.x;
-    k.impulse_y[lane] += impulse.y;
-    apply(k, v, lane, {{rax[lane], ray[lane]}, {rbx[lane], rby[lane]}}, impulse);
-  }
+  for (int lane = 0; lane < lane_count; ++lane)
+    accumulate(k, v, lane, anchors(lane), FxVec2f{ix[lane], iy[lane]});
   scatter(k, states, v);
 }
 
@@ -141,33 +135,25 @@ FX2D_LANE_INLINE void warm_start_batch(PinBatch& k, FxBodyState* __restrict stat
   scatter(k, states, v);
 }
 
-// The scalar twin of one batch: its lanes one at a time, each gathered and scattered alone, with the
-// same arithmetic.
-template <bool UseBias>
-FX2D_LANE_INLINE void solve_batch_lane_by_lane(PinBatch& k, FxBodyState* __restrict states,
-                                               const JointPassParams& p) {
+// The scalar twin of a batch: `lane_pass` on its lanes one at a time, each gathered and scattered
+// alone, with the same arithmetic as the loops above.
+template <class LanePass>
+FX2D_LANE_INLINE void lane_by_lane(PinBatch& k, FxBodyState* __restrict states, const LanePass& lane_pass) {
   for (int lane = 0; lane < lane_count; ++lane) {
     PinLanes v;
     gather(k, states, v);
-    TurnedAnchors r;
-    FxVec2f impulse;
-    const bool clamp = solve_lane<UseBias>(k, v, lane, p, r, impulse);
-    finish_lane(k, v, lane, p, r, impulse, clamp);
+    lane_pass(v, lane);
     scatter(k, states, v);
   }
 }
 
 FX2D_LANE_KERNEL void warm_start_pins(PinBatch* batches, int count, FxBodyState* states, bool scalar) {
   for (int i = 0; i < count; ++i) {
-    if (!scalar) {
-      warm_start_batch(batches[i], states);
-      continue;
-    }
-    for (int lane = 0; lane < lane_count; ++lane) {
-      PinLanes v;
-      gather(batches[i], states, v);
-      warm_start_lane(batches[i], v, lane);
-      scatter(batches[i], states, v);
+    PinBatch& k = batches[i];
+    if (scalar) {
+      lane_by_lane(k, states, [&](PinLanes& v, int lane) { warm_start_lane(k, v, lane); });
+    } else {
+      warm_start_batch(k, states);
     }
   }
 }
@@ -176,11 +162,17 @@ template <bool UseBias>
 FX2D_LANE_INLINE void solve_pins(PinBatch* batches, int count, FxBodyState* states, const JointPassParams& p,
                                  bool scalar) {
   for (int i = 0; i < count; ++i) {
-    if (scalar) {
-      solve_batch_lane_by_lane<UseBias>(batches[i], states, p);
-    } else {
-      solve_batch<UseBias>(batches[i], states, p);
+    PinBatch& k = batches[i];
+    if (!scalar) {
+      solve_batch<UseBias>(k, states, p);
+      continue;
     }
+    lane_by_lane(k, states, [&](PinLanes& v, int lane) {
+      TurnedAnchors r;
+      FxVec2f impulse;
+      if (solve_lane<UseBias>(k, v, lane, p, r, impulse)) impulse = clamped(k, lane, p, r, impulse);
+      accumulate(k, v, lane, r, impulse);
+    });
   }
 }
 
