@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 
 #include "fx2d/Constraint.h"
 
@@ -40,6 +41,19 @@ inline FxVec2f start_anchor(FxRot start_rotation, FxVec2f local_center, FxVec2f 
 inline JointFrame joint_frame(FxVec2f anchor_a, FxVec2f anchor_b, FxVec2f center_offset) {
   return {anchor_a, anchor_b, center_offset + anchor_b - anchor_a};
 }
+
+// One of the step's constraints as JointRows keeps it: a joint Fx2D provides as a plain record of
+// its bodies' state indices and inverse masses, its frame and its impulse; a user's by kind alone.
+enum class JointKind : std::uint8_t { user, distance_joint, revolute_joint };
+struct JointRow {
+  JointKind kind;
+  std::uint32_t a, b;  // states
+  float inv_mass_a, inv_inertia_a, inv_mass_b, inv_inertia_b;
+  JointFrame frame;
+  FxVec2f impulse;     // a distance joint's in x
+  float length;        // a distance joint's rest length
+  float within_limit;  // impulse_surely_within_limit()
+};
 
 inline void apply_joint_impulse(JointBodies& bodies, FxVec2f anchor_a, FxVec2f anchor_b, FxVec2f impulse) {
   bodies.a.linear_velocity -= bodies.inv_mass_a * impulse;

@@ -7,8 +7,6 @@ void JointRows::prepare(const Constraints& constraints, const Bodies& bodies, Fx
                         std::span<const FxBodyState> states) {
   rows_.clear();
   owners_.clear();
-  pin_sources_.clear();
-  pin_of_row_.clear();
   context_ = &context;
   params_ = {context.softness, context.max_linear_speed, context.max_angular_speed};
   for (const auto& constraint : constraints) {
@@ -44,19 +42,7 @@ void JointRows::prepare(const Constraints& constraints, const Bodies& bodies, Fx
     row.within_limit = impulse_surely_within_limit(params_, sa.inv_mass + sb.inv_mass, row.frame);
     rows_.push_back(row);
   }
-  pin_of_row_.assign(rows_.size(), -1);
-  for (std::size_t i = 0; i < rows_.size(); ++i) {
-    const Row& row = rows_[i];
-    if (row.kind != Kind::revolute_joint) continue;
-    pin_of_row_[i] = static_cast<int>(pin_sources_.size());
-    pin_sources_.push_back({row.a, row.b, row.inv_mass_a, row.inv_inertia_a, row.inv_mass_b,
-                            row.inv_inertia_b, row.frame, row.impulse, row.within_limit});
-  }
-  pins_.pack(pin_sources_, states, static_cast<std::uint32_t>(states.size() - 1), packed_);
-}
-
-bool JointRows::in_batches(std::size_t row) const {
-  return pin_of_row_[row] >= 0 && packed_[pin_of_row_[row]] != 0;
+  pins_.pack(rows_, states, static_cast<std::uint32_t>(states.size() - 1), packed_);
 }
 
 // Invariant of both loops: rows_ and owners_ are in the constraints' order, and a row's state
@@ -64,7 +50,7 @@ bool JointRows::in_batches(std::size_t row) const {
 void JointRows::warm_start(std::span<FxBodyState> states, bool scalar) {
   pins_.warm_start(states, scalar);
   for (std::size_t i = 0; i < rows_.size(); ++i) {
-    if (in_batches(i)) continue;
+    if (packed_[i]) continue;
     Row& row = rows_[i];
     switch (row.kind) {
       case Kind::distance_joint: {
@@ -87,7 +73,7 @@ void JointRows::warm_start(std::span<FxBodyState> states, bool scalar) {
 void JointRows::evaluate(std::span<FxBodyState> states, bool use_bias, bool scalar) {
   pins_.solve(states, params_, use_bias, scalar);
   for (std::size_t i = 0; i < rows_.size(); ++i) {
-    if (in_batches(i)) continue;
+    if (packed_[i]) continue;
     Row& row = rows_[i];
     switch (row.kind) {
       case Kind::distance_joint: {
@@ -112,8 +98,7 @@ void JointRows::store() const {
     const Row& row = rows_[i];
     if (row.kind == Kind::distance_joint) static_cast<FxDistanceJoint*>(owners_[i])->impulse_ = row.impulse.x;
     if (row.kind == Kind::revolute_joint) {
-      static_cast<FxRevoluteJoint*>(owners_[i])->impulse_ =
-          in_batches(i) ? pins_.impulse(pin_of_row_[i]) : row.impulse;
+      static_cast<FxRevoluteJoint*>(owners_[i])->impulse_ = packed_[i] ? pins_.impulse(i) : row.impulse;
     }
   }
 }

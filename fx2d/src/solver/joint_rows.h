@@ -52,19 +52,8 @@ class JointRows {
   void store() const;
 
  private:
-  enum class Kind : std::uint8_t { user, distance_joint, revolute_joint };
-  struct Row {
-    Kind kind;
-    std::uint32_t a, b;  // states
-    float inv_mass_a, inv_inertia_a, inv_mass_b, inv_inertia_b;
-    JointFrame frame;
-    FxVec2f impulse;  // a distance joint's in x
-    float length;     // a distance joint's rest length
-    float within_limit;  // impulse_surely_within_limit()
-  };
-
-  // Whether row `row` is a pin that pins_ solves.
-  bool in_batches(std::size_t row) const;
+  using Kind = JointKind;
+  using Row = JointRow;
 
   static JointBodies bodies_of(const Row& row, std::span<FxBodyState> states) {
     return {states[row.a],     states[row.b],  row.inv_mass_a,
@@ -74,9 +63,7 @@ class JointRows {
   std::vector<Row> rows_;
   std::vector<FxConstraint*> owners_;  // per row, the constraint it stands for
   PinBatches pins_;
-  std::vector<PinSource> pin_sources_;  // the revolute rows, in order
-  std::vector<int> pin_of_row_;         // per row, its index among pin_sources_, or -1
-  std::vector<std::uint8_t> packed_;    // per pin, whether pins_ holds it
+  std::vector<std::uint8_t> packed_;  // per row, whether pins_ solves it
   FxConstraintContext* context_ = nullptr;
   JointPassParams params_{};
 };

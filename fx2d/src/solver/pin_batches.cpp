@@ -188,22 +188,22 @@ FX2D_LANE_KERNEL void solve_pins_rigid(PinBatch* batches, int count, FxBodyState
 
 }  // namespace
 
-void PinBatches::pack(std::span<const PinSource> pins, std::span<const FxBodyState> states,
+void PinBatches::pack(std::span<const JointRow> rows, std::span<const FxBodyState> states,
                       std::uint32_t padding_state, std::vector<std::uint8_t>& packed) {
   colours_.assign(states.size(), 0u);
-  colour_of_.assign(pins.size(), 0);
-  packed.assign(pins.size(), 0);
-  lanes_.assign(pins.size(), -1);
+  colour_of_.assign(rows.size(), 0);
+  packed.assign(rows.size(), 0);
+  lanes_.assign(rows.size(), -1);
   int pins_in_colour[max_colours] = {};
   const auto moves = [&](std::uint32_t state) { return (states[state].flags & movable_flag) != 0; };
-  for (std::size_t i = 0; i < pins.size(); ++i) {
-    const PinSource& pin = pins[i];
-    const std::uint32_t taken =
-        (moves(pin.state_a) ? colours_[pin.state_a] : 0u) | (moves(pin.state_b) ? colours_[pin.state_b] : 0u);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const JointRow& pin = rows[i];
+    if (pin.kind != JointKind::revolute_joint) continue;
+    const std::uint32_t taken = (moves(pin.a) ? colours_[pin.a] : 0u) | (moves(pin.b) ? colours_[pin.b] : 0u);
     if (taken == ~0u) continue;
     const int colour = std::countr_one(taken);
-    colours_[pin.state_a] |= 1u << colour;
-    colours_[pin.state_b] |= 1u << colour;
+    colours_[pin.a] |= 1u << colour;
+    colours_[pin.b] |= 1u << colour;
     colour_of_[i] = static_cast<std::uint8_t>(colour);
     packed[i] = 1;
     ++pins_in_colour[colour];
@@ -222,16 +222,16 @@ void PinBatches::pack(std::span<const PinSource> pins, std::span<const FxBodySta
     std::fill(std::begin(k.state_b), std::end(k.state_b), padding_offset);
   }
   int filled[max_colours] = {};
-  for (std::size_t i = 0; i < pins.size(); ++i) {
+  for (std::size_t i = 0; i < rows.size(); ++i) {
     if (!packed[i]) continue;
     const int colour = colour_of_[i];
     const int slot = first_batch[colour] * lane_count + filled[colour]++;
     lanes_[i] = slot;
     PinBatch& k = batches_[slot / lane_count];
     const int lane = slot % lane_count;
-    const PinSource& pin = pins[i];
-    k.state_a[lane] = state_offset(pin.state_a);
-    k.state_b[lane] = state_offset(pin.state_b);
+    const JointRow& pin = rows[i];
+    k.state_a[lane] = state_offset(pin.a);
+    k.state_b[lane] = state_offset(pin.b);
     k.inv_mass_a[lane] = pin.inv_mass_a, k.inv_inertia_a[lane] = pin.inv_inertia_a;
     k.inv_mass_b[lane] = pin.inv_mass_b, k.inv_inertia_b[lane] = pin.inv_inertia_b;
     k.anchor_ax[lane] = pin.frame.anchor_a.x, k.anchor_ay[lane] = pin.frame.anchor_a.y;
@@ -255,8 +255,8 @@ void PinBatches::solve(std::span<FxBodyState> states, const JointPassParams& par
   }
 }
 
-FxVec2f PinBatches::impulse(std::size_t pin) const {
-  const int slot = lanes_[pin];
+FxVec2f PinBatches::impulse(std::size_t row) const {
+  const int slot = lanes_[row];
   const PinBatch& k = batches_[slot / lane_count];
   return {k.impulse_x[slot % lane_count], k.impulse_y[slot % lane_count]};
 }

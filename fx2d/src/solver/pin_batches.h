@@ -28,29 +28,20 @@ struct PinBatch {
   float within_limit[lane_count];                      // impulse_surely_within_limit()
 };
 
-// One pin as the rows give it to pack().
-struct PinSource {
-  std::uint32_t state_a, state_b;
-  float inv_mass_a, inv_inertia_a, inv_mass_b, inv_inertia_b;
-  JointFrame frame;
-  FxVec2f impulse;
-  float within_limit;
-};
-
 class PinBatches {
  public:
-  // Colours `pins` greedily in their order (a body without movable_flag in `states` takes part in
-  // any number of a colour's pins) and packs each colour into batches. Returns, per pin, whether it
-  // was packed: one that finds no colour among the first max_colours is left to the caller.
-  // `padding_state` indexes a state that is never read back.
-  void pack(std::span<const PinSource> pins, std::span<const FxBodyState> states, std::uint32_t padding_state,
+  // Colours the revolute rows of `rows` greedily in their order (a body without movable_flag in
+  // `states` takes part in any number of a colour's pins) and packs each colour into batches. Sets,
+  // per row, whether it was packed: a pin that finds no colour among the first max_colours, like
+  // every other row, is left to the caller. `padding_state` indexes a state never read back.
+  void pack(std::span<const JointRow> rows, std::span<const FxBodyState> states, std::uint32_t padding_state,
             std::vector<std::uint8_t>& packed);
   // Every batch's kept impulses applied again; one pass, soft (use_bias) or rigid. With `scalar`,
   // lane by lane in the same order (the scalar twin; the same bits).
   void warm_start(std::span<FxBodyState> states, bool scalar);
   void solve(std::span<FxBodyState> states, const JointPassParams& params, bool use_bias, bool scalar);
-  // The accumulated impulse of pin `pin` (an index into pack()'s pins), which pack() packed.
-  FxVec2f impulse(std::size_t pin) const;
+  // The accumulated impulse of row `row` (an index into pack()'s rows), which pack() packed.
+  FxVec2f impulse(std::size_t row) const;
   bool empty() const { return batch_count_ == 0; }
 
   static constexpr int max_colours = 32;

@@ -135,9 +135,8 @@ INSTANTIATE_TEST_SUITE_P(
         GoldenCase{"pile_300", "scenes/pile.json", 300, "pile"},
         GoldenCase{"settling_boxes_200", "scenes/settling_boxes.json", 200, "settling_boxes"},
         GoldenCase{"joints_and_bounce", "scenes/tests/joints_and_bounce.json", 0, nullptr},
-        // 200 pinned links: a support chain deep enough for the
-        // full schedule in every step, which the scene above
-        // never takes.
+        // 200 pinned links: a support chain deep enough for the full schedule in every step (the
+        // scene above takes it only while its ball bounces).
         GoldenCase{"chain", "scenes/joints/chain.json", 0, nullptr},
         // The schedule the seeds chose, still selectable (issue 19).
         GoldenCase{"settling_boxes_200_14x4r4", "scenes/settling_boxes.json", 200, nullptr, 14, 4, 4},
