@@ -108,7 +108,7 @@ SceneSpec load_scene_text(const std::string& text, const std::string& origin,
   Json document = parse_json_text(text, origin, "a scene");
   ErrorReporter errors(text, origin);
   apply_overrides(document, overrides, errors);
-  SceneSpec spec = read_scene(errors, document);
+  SceneSpec spec = read_scene(errors, document, overrides.bodies.has_value());
   spec.resolved_json = document.dump(2);
   Fnv1a64 hash;
   hash.add(spec.resolved_json);

@@ -149,6 +149,7 @@ struct GeneratorInput {
   int size;
   const MaterialSpec& scene_material;
   std::size_t generator_index;
+  bool size_read = false;  // whether the generator's count defaulted to the scene's size
 };
 
 // How many bodies a generator adds: `count` (default: the scene's size), refused before any
@@ -156,7 +157,8 @@ struct GeneratorInput {
 int read_count(GeneratorInput& in, const std::vector<BodySpec>& bodies) {
   // A count left to default is the scene's size, so a scene too large is blamed on /size (and on
   // the --bodies that set it).
-  const std::string blamed = in.reader.has("count") ? in.reader.at("count") : "/size";
+  in.size_read = !in.reader.has("count");
+  const std::string blamed = in.size_read ? "/size" : in.reader.at("count");
   const int count = in.reader.integer("count", in.size, Range{0.0, kMaxBodies});
   const std::size_t total = bodies.size() + static_cast<std::size_t>(count);
   if (total > static_cast<std::size_t>(kMaxBodies)) {
@@ -291,17 +293,21 @@ void check_generated_positions(const ObjectReader& reader, std::span<const BodyS
   }
 }
 
-void expand_generators(ObjectReader& scene, SceneSpec& spec, const MaterialSpec& material,
+// Expands every generator; whether any took its count from the scene's size.
+bool expand_generators(ObjectReader& scene, SceneSpec& spec, const MaterialSpec& material,
                        std::vector<PendingGround>& pending) {
+  bool size_read = false;
   for_each_element(scene, "generators", [&](Json& element, const std::string& pointer, std::size_t index) {
     ObjectReader reader(scene.errors(), element, pointer, "a generator object with a \"type\"");
     const std::size_t type = reader.choice("type", std::nullopt, kGeneratorTypes);
     const std::size_t first = spec.bodies.size();
     GeneratorInput input{reader, spec.size, material, index};
     kGeneratorExpanders[type](input, spec.bodies, pending);
+    size_read |= input.size_read;
     reader.finish();
     check_generated_positions(reader, std::span(spec.bodies).subspan(first));
   });
+  return size_read;
 }
 
 const std::string kShapeForms = R"({"circle": radius}, {"box": [hw, hh]} or {"polygon": [[x, y], ...]})";
@@ -445,7 +451,7 @@ constexpr PrimaryMetric kMetricValues[] = {PrimaryMetric::penetration, PrimaryMe
 
 }  // namespace
 
-SceneSpec read_scene(const ErrorReporter& errors, Json& document) {
+SceneSpec read_scene(const ErrorReporter& errors, Json& document, bool size_must_be_read) {
   ObjectReader scene(errors, document, "", "a scene object");
   Json& schema = scene.required("schema", in_quotes(kSchema));
   if (!schema.is_string() || schema.get<std::string>() != kSchema)
@@ -464,7 +470,16 @@ SceneSpec read_scene(const ErrorReporter& errors, Json& document) {
   const MaterialSpec material = read_material(scene, MaterialSpec{});
 
   std::vector<PendingGround> pending_grounds;
-  expand_generators(scene, spec, material, pending_grounds);
+  const bool size_read = expand_generators(scene, spec, material, pending_grounds);
+  // A size nothing reads would only mislabel the results: a listed scene run "at 150 bodies"
+  // would still hold the bodies it lists. (A resolved scene keeps its size beside the counts it
+  // gave every generator: read from a file, an unread size is no mistake.)
+  if (size_must_be_read && !size_read) {
+    scene.errors().fail("/size", scene.errors().origin() +
+                                     " has no size parameter (no generator takes its count "
+                                     "from /size); expected none, got " +
+                                     std::to_string(spec.size));
+  }
   read_explicit_bodies(scene, spec, material);
   read_joints(scene, spec);
   scene.finish();

@@ -510,6 +510,27 @@ TEST(Overrides, BodiesAndStepsSetSizeAndSteps) {
   EXPECT_EQ(scene.bodies.size(), 21u);
 }
 
+// A size nothing reads would mislabel the results: the 200-link chain run "at 150 bodies" still
+// holds its 200 links. Refused from --bodies; a file's own unread size is a resolved scene's.
+TEST(Overrides, BodiesOnASceneWithoutASizeParameterIsRefused) {
+  SceneOverrides overrides;
+  overrides.bodies = 150;
+  const std::string chain = scene_path("joints/chain.json");
+  EXPECT_EQ(error_of([&] { load_scene_file(chain, overrides); }),
+            "--bodies 150: /size: " + chain +
+                " has no size parameter (no generator takes its count from /size); expected none, got 150");
+  EXPECT_EQ(bodies_of(load_scene_file(chain)), 200);
+  const std::string counted = scene_with(R"("size": 3, "generators": [{"type": "box_grid", "count": 2}])");
+  EXPECT_EQ(load_error(counted, overrides),
+            "--bodies 150: /size: t.json has no size parameter (no generator takes its count from /size); "
+            "expected none, got 150");
+  EXPECT_EQ(load(counted).bodies.size(), 2u);
+  EXPECT_EQ(
+      load(scene_with(R"("generators": [{"type": "box_grid", "count": 2}, {"type": "box_grid"}])"), overrides)
+          .bodies.size(),
+      152u);
+}
+
 TEST(Overrides, SetChangesANestedField) {
   const SceneSpec scene = load_scene_file(
       scene_path("stacks.json"),
