@@ -98,9 +98,10 @@ class PolicyReader {
     if (!scenes.is_array() || scenes.empty()) fail(pointer + "/scenes", "expected a non-empty list of {scene, bodies}");
     for (std::size_t i = 0; i < scenes.size(); ++i) {
       const std::string where = pointer + "/scenes/" + std::to_string(i);
-      expect_object(scenes[i], where, {"scene", "bodies"}, {"scene", "bodies"});
+      expect_object(scenes[i], where, {"scene", "bodies"}, {"scene"});
+      const json& bodies = scenes[i].contains("bodies") ? scenes[i]["bodies"] : json();
       suite.scenes.push_back({text(scenes[i]["scene"], where + "/scene"),
-                              integer(scenes[i]["bodies"], where + "/bodies", 1, 1'000'000)});
+                              bodies.is_null() ? 0 : integer(bodies, where + "/bodies", 1, 1'000'000)});
     }
     suite.rounds = rounds(value["rounds"], pointer + "/rounds", alpha);
     suite.steps = integer(value["steps"], pointer + "/steps", 1, 1'000'000);

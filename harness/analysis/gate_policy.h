@@ -38,8 +38,8 @@ struct Thresholds {
 };
 
 struct SuiteScene {
-  std::string scene;
-  int bodies = 0;
+  std::string scene;  // an embedded scene's name, or a scene file's path from the working directory
+  int bodies = 0;     // its size parameter N, or 0 for the scene as it stands (a file listing its bodies)
 };
 
 // What the nightly job measures: ci/nightly reads it through `fx2d-bench gate --print-suite`.

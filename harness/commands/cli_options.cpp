@@ -21,12 +21,6 @@ const CLI::Validator json_pointer_assignment(
     },
     "/POINTER=VALUE");
 
-SceneSpec load_scene_argument(const std::string& argument, const SceneOverrides& overrides) {
-  if (std::filesystem::exists(argument)) return load_scene_file(argument, overrides);
-  if (const auto text = embedded_scene_text(argument)) return load_scene_text(*text, "<embedded:" + argument + ">", overrides);
-  throw InputError(argument + ": no such scene file, nor the name of an embedded scene");
-}
-
 }  // namespace
 
 void SceneOptions::add_to(CLI::App& command, const std::string& default_scene) {
@@ -52,7 +46,7 @@ std::vector<SceneSpec> SceneOptions::load() const {
   }
   std::vector<SceneSpec> specs;
   for (const std::string& scene : scenes) {
-    specs.push_back(load_scene_argument(scene, overrides));
+    specs.push_back(load_scene(scene, overrides));
     // The format allows a scene of no steps, but there is nothing in one to time or sample.
     if (specs.back().steps == 0)
       throw InputError("scene " + specs.back().name + ": /steps is 0; every measuring command needs at least 1 step");

@@ -2,7 +2,8 @@
 // the gating rows of comparisons (`fx2d-bench compare --json`, or the verdict `fx2d-bench ab`
 // prints) against the committed policy: each scene's own thresholds, quarantined rows dropped
 // with their reason, controls that flag a noisy machine (gate_policy.h holds the rules).
-// `--print-suite full|smoke` prints what the nightly job measures, one fact a line, for ci/nightly;
+// `--print-suite full|smoke` prints what the nightly job measures, one fact a line, for ci/nightly
+// (`scene NAME N`, or `scene FILE -` for a scene run as it stands);
 // with `--shard K/N|auto`, only the scenes of that part of the suite (a scene and its controls are
 // one work item: the controls of a comparison run on the machine that measured it), balanced by
 // bodies, with the part and the whole suite's identity, which `ci/nightly --collect` checks.
@@ -21,6 +22,7 @@
 #include "common/errors.h"
 #include "common/shard.h"
 #include "format/gate_format.h"
+#include "scene/scene_loader.h"
 
 namespace fxbench {
 namespace {
@@ -35,7 +37,18 @@ struct GateOptions {
 
 // --- the suite, for ci/nightly --------------------------------------------------------------------
 
-std::string suite_lines(const std::string& name, const Suite& suite, const Shard& shard) {
+// The bodies of a suite's scene run as it stands, its cost in the balance of the shards.
+int bodies_of_suite_scene(const std::string& scene, const std::string& name, const std::string& policy_path) {
+  try {
+    return bodies_of(load_scene(scene));
+  } catch (const InputError& error) {
+    throw InputError(policy_path + ": the " + name + " suite's scene: " + error.what() +
+                     " (a suite's scene files are read from the working directory)");
+  }
+}
+
+std::string suite_lines(const std::string& name, const Suite& suite, const Shard& shard,
+                        const std::string& policy_path) {
   std::string engines;
   for (const std::string& engine : suite.engines) engines += (engines.empty() ? "" : ",") + engine;
   const std::string settings = "engines " + engines + "\nrounds " + std::to_string(suite.rounds) + "\nsteps " +
@@ -43,8 +56,9 @@ std::string suite_lines(const std::string& name, const Suite& suite, const Shard
   std::vector<std::string> keys{"nightly " + name + "\n" + settings};
   std::vector<double> costs;
   for (const SuiteScene& scene : suite.scenes) {
-    keys.push_back(scene.scene + " " + std::to_string(scene.bodies));
-    costs.push_back(scene.bodies);
+    // `-`: the scene as it stands, weighed by the bodies it holds (which also checks it loads).
+    keys.push_back(scene.scene + " " + (scene.bodies > 0 ? std::to_string(scene.bodies) : "-"));
+    costs.push_back(scene.bodies > 0 ? scene.bodies : bodies_of_suite_scene(scene.scene, name, policy_path));
   }
   std::string text = settings + "shard " + shard.text() + "\nwork_items " + std::to_string(costs.size()) +
                      "\nwork_list " + work_list_identity(keys) + "\n";
@@ -58,7 +72,7 @@ ExitCode gate_command(const GateOptions& options) {
   const Policy policy = read_policy(options.policy_path);
   if (!options.print_suite.empty()) {
     const Suite& suite = options.print_suite == "smoke" ? policy.smoke : policy.suite;
-    std::cout << suite_lines(options.print_suite, suite, options.shard.shard());
+    std::cout << suite_lines(options.print_suite, suite, options.shard.shard(), options.policy_path);
     return exit_ok;
   }
   if (options.compare_paths.empty()) throw InputError("gate: give COMPARE.json to judge, or --print-suite full|smoke");

@@ -126,4 +126,12 @@ SceneSpec load_scene_file(const std::string& path, const SceneOverrides& overrid
   return spec;
 }
 
+SceneSpec load_scene(const std::string& file_or_name, const SceneOverrides& overrides) {
+  if (std::filesystem::exists(file_or_name)) return load_scene_file(file_or_name, overrides);
+  if (const auto text = embedded_scene_text(file_or_name)) {
+    return load_scene_text(*text, "<embedded:" + file_or_name + ">", overrides);
+  }
+  throw InputError(file_or_name + ": no such scene file, nor the name of an embedded scene");
+}
+
 }  // namespace fxbench

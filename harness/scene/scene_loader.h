@@ -26,6 +26,10 @@ SceneSpec load_scene_file(const std::string& path, const SceneOverrides& overrid
 // Resolves scene text; `origin` names it in messages (a path, or "<embedded:pile>").
 SceneSpec load_scene_text(const std::string& text, const std::string& origin, const SceneOverrides& overrides = {});
 
+// A scene named on a command line or in a policy: the file at `file_or_name` when one exists,
+// else the embedded scene of that name. Throws InputError.
+SceneSpec load_scene(const std::string& file_or_name, const SceneOverrides& overrides = {});
+
 // The canonical scenes compiled into the binary, so a default run needs no file: "pile",
 // "stacks", "settling_boxes" (the same text as scenes/<name>.json).
 std::optional<std::string> embedded_scene_text(const std::string& name);

@@ -33,19 +33,11 @@ namespace {
 namespace fs = std::filesystem;
 using bench_test::Ending;
 using bench_test::run_bench;
+using bench_test::run_bench_from;
 
 using AbTest = test::PluginCopies;
 
 bool one_line(const std::string& text) { return !text.empty() && text.find('\n') == text.size() - 1; }
-
-// Runs fx2d-bench from `working_directory`: `worktree` and revisions name its git checkout.
-Ending run_bench_from(const fs::path& working_directory, std::vector<std::string> arguments, const fs::path& output) {
-  const fs::path before = fs::current_path();
-  fs::current_path(working_directory);
-  Ending ending = run_bench(std::move(arguments), output);
-  fs::current_path(before);
-  return ending;
-}
 
 // The row of `metric` in compare JSON.
 nlohmann::json row_of(const nlohmann::json& verdict, const std::string& metric) {

@@ -70,15 +70,20 @@ std::string only_verdict(std::vector<json> rows) {
 
 // --- the committed policy -------------------------------------------------------------------------
 
+// ... and the jointed scenes as they stand: the pins' batches and the joint schedule are guarded
+// nightly like the contacts.
 TEST(GatePolicy, CommittedPolicyNamesTheCanonicalScenesAtTheirMiddleSizesOnAllEngines) {
   const Policy policy = read_policy(std::string(FX2D_SOURCE_DIR) + "/ci/gating.json");
-  ASSERT_EQ(policy.suite.scenes.size(), 3u);
+  ASSERT_EQ(policy.suite.scenes.size(), 5u);
   EXPECT_EQ(policy.suite.scenes[0].scene, "pile");
   EXPECT_EQ(policy.suite.scenes[0].bodies, 600);
   EXPECT_EQ(policy.suite.scenes[1].scene, "stacks");
   EXPECT_EQ(policy.suite.scenes[1].bodies, 200);
   EXPECT_EQ(policy.suite.scenes[2].scene, "settling_boxes");
   EXPECT_EQ(policy.suite.scenes[2].bodies, 800);
+  EXPECT_EQ(policy.suite.scenes[3].scene, "scenes/joints/chain.json");
+  EXPECT_EQ(policy.suite.scenes[4].scene, "scenes/joints/joint_grid.json");
+  EXPECT_EQ(policy.suite.scenes[3].bodies + policy.suite.scenes[4].bodies, 0);
   EXPECT_EQ(policy.suite.engines, (std::vector<std::string>{"fx2d", "box2d", "ode"}));
   EXPECT_EQ(policy.controls, (std::vector<std::string>{"box2d", "ode"}));
   for (const Quarantine& entry : policy.quarantine) EXPECT_FALSE(entry.reason.empty());
@@ -367,21 +372,51 @@ std::vector<std::string> lines_of(const std::string& out, const std::string& pre
   return lines;
 }
 
-// Two shards of the committed suite (pile 600, stacks 200, settling_boxes 800) hold every scene
-// once, balanced by bodies (800 against 600 + 200), under one identity of the whole suite.
+// Two shards of the committed suite hold every scene once, balanced by bodies: settling_boxes 800
+// and pile 600 against stacks 200 and the jointed scenes as they stand (200 and 894 bodies), under
+// one identity of the whole suite. Its scene files are paths from the source tree's root.
 TEST_F(GateCommand, PrintsOneShardOfTheSuiteBalancedByBodies) {
   const std::string policy = std::string(FX2D_SOURCE_DIR) + "/ci/gating.json";
-  const bench_test::Ending first = gate({"--policy", policy, "--print-suite", "full", "--shard", "1/2"});
-  const bench_test::Ending second = gate({"--policy", policy, "--print-suite", "full", "--shard", "2/2"});
+  const auto shard = [&](const std::string& suite, const std::string& part) {
+    return bench_test::run_bench_from(
+        FX2D_SOURCE_DIR, {"gate", "--policy", policy, "--print-suite", suite, "--shard", part}, directory_);
+  };
+  const bench_test::Ending first = shard("full", "1/2");
+  const bench_test::Ending second = shard("full", "2/2");
   ASSERT_EQ(first.exit_code, 0) << first.err;
   ASSERT_EQ(second.exit_code, 0) << second.err;
-  EXPECT_EQ(lines_of(first.out, "scene "), std::vector<std::string>{"settling_boxes 800"});
-  EXPECT_EQ(lines_of(second.out, "scene "), (std::vector<std::string>{"pile 600", "stacks 200"}));
+  EXPECT_EQ(lines_of(first.out, "scene "),
+            (std::vector<std::string>{"stacks 200", "scenes/joints/chain.json -",
+                                      "scenes/joints/joint_grid.json -"}));
+  EXPECT_EQ(lines_of(second.out, "scene "), (std::vector<std::string>{"pile 600", "settling_boxes 800"}));
   EXPECT_EQ(lines_of(first.out, "shard "), std::vector<std::string>{"1/2"});
-  EXPECT_EQ(lines_of(first.out, "work_items "), std::vector<std::string>{"3"});
+  EXPECT_EQ(lines_of(first.out, "work_items "), std::vector<std::string>{"5"});
   EXPECT_EQ(lines_of(first.out, "work_list "), lines_of(second.out, "work_list "));
-  const bench_test::Ending smoke = gate({"--policy", policy, "--print-suite", "smoke", "--shard", "1/2"});
+  const bench_test::Ending smoke = shard("smoke", "1/2");
   EXPECT_NE(lines_of(first.out, "work_list "), lines_of(smoke.out, "work_list "));
+}
+
+// A suite's scene without bodies runs as it stands (`-`); one that cannot be read is refused with
+// the policy's name, before any night is measured.
+TEST_F(GateCommand, ASuiteSceneWithoutBodiesRunsAsItStands) {
+  const std::string listed =
+      write("listed.json", R"({"schema": "fx2d.scene/1", "bodies": [{"shape": {"circle": 1}}]})");
+  const std::string policy = write("files.json", replaced(test_policy, R"({"scene": "pile", "bodies": 600})",
+                                                          R"({"scene": "listed.json"})"));
+  const auto print_suite = [&] {
+    return bench_test::run_bench_from(directory_, {"gate", "--policy", policy, "--print-suite", "full"},
+                                      directory_);
+  };
+  const bench_test::Ending ending = print_suite();
+  EXPECT_EQ(ending.exit_code, 0) << ending.err;
+  EXPECT_EQ(lines_of(ending.out, "scene "), std::vector<std::string>{"listed.json -"});
+  fs::remove(listed);
+  const bench_test::Ending missing = print_suite();
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_EQ(missing.err,
+            "fx2d-bench: " + policy +
+                ": the full suite's scene: listed.json: no such scene file, nor the name of an embedded "
+                "scene (a suite's scene files are read from the working directory)\n");
 }
 
 }  // namespace

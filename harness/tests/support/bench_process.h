@@ -98,4 +98,15 @@ inline Ending run_bench(std::vector<std::string> arguments, const std::filesyste
   return BenchProcess(std::move(arguments), directory).finish();
 }
 
+// The same, from `working_directory`, where the relative paths it reads are found (`worktree` and
+// revisions name its git checkout; a policy's scene files).
+inline Ending run_bench_from(const std::filesystem::path& working_directory,
+                             std::vector<std::string> arguments, const std::filesystem::path& directory) {
+  const std::filesystem::path before = std::filesystem::current_path();
+  std::filesystem::current_path(working_directory);
+  Ending ending = run_bench(std::move(arguments), directory);
+  std::filesystem::current_path(before);
+  return ending;
+}
+
 }  // namespace fxbench::bench_test
