@@ -75,18 +75,14 @@ inline FxVec2f current_separation(const JointBodies& bodies, const JointFrame& f
          (anchor_b - frame.anchor_b) - (anchor_a - frame.anchor_a);
 }
 
-// The largest impulse a joint may accumulate: what stops its anchors closing at the fastest speeds
-// the bodies may have (K >= ma + mb in every direction, so no rigid solve needs more). Redundant
+// The fastest a joint's anchors may close at, given the speed limits. A joint's accumulated impulse
+// is held within this speed over ma + mb, what stops them (K >= ma + mb in every direction, so no
+// rigid solve needs more). Redundant
 // joints, such as two pins between one pair of bodies, otherwise trade impulse between themselves
 // without limit; once the lever arms turn, that internal impulse becomes real torque and grows
 // geometrically from substep to substep.
 inline float max_anchor_speed(const JointPassParams& params, FxVec2f anchor_a, FxVec2f anchor_b) {
   return 2.0f * params.max_linear_speed + params.max_angular_speed * (length(anchor_a) + length(anchor_b));
-}
-
-inline float max_joint_impulse(const JointPassParams& params, const JointBodies& bodies, FxVec2f anchor_a,
-                               FxVec2f anchor_b) {
-  return max_anchor_speed(params, anchor_a, anchor_b) / (bodies.inv_mass_a + bodies.inv_mass_b);
 }
 
 // An accumulated impulse below which max_joint_impulse surely does not bind for the whole step, or
@@ -98,11 +94,53 @@ inline float impulse_surely_within_limit(const JointPassParams& params, float in
   return 0.999f * (max_anchor_speed(params, frame.anchor_a, frame.anchor_b) / inv_mass_sum);
 }
 
+// The unit axis from anchor a to anchor b (normalize(), branch-free: zero where the anchors nearly
+// coincide) and the distance between them.
+struct RodAxis {
+  FxVec2f axis;
+  float length;
+};
+
+inline RodAxis rod_axis(FxVec2f separation) {
+  const float distance = length(separation);
+  const float inverse = 1.0f / distance;
+  const bool apart = !(distance < 1.0e-12f);
+  return {apart ? FxVec2f{inverse * separation.x, inverse * separation.y} : FxVec2f{}, distance};
+}
+
 inline void warm_start_distance(JointBodies& bodies, const JointFrame& frame, float impulse) {
   const FxVec2f ra = rotate(bodies.a.delta_rotation, frame.anchor_a);
   const FxVec2f rb = rotate(bodies.b.delta_rotation, frame.anchor_b);
-  const FxVec2f axis = normalize(current_separation(bodies, frame, ra, rb));
+  const FxVec2f axis = rod_axis(current_separation(bodies, frame, ra, rb)).axis;
   apply_joint_impulse(bodies, ra, rb, impulse * axis);
+}
+
+// What one pass of a rod works out before its impulse is clamped and applied: the impulse along
+// its axis that takes the anchors' closing speed `cdot` plus `bias` to zero, softened, and whether
+// the rod's effective mass is finite (both ends immovable, or an inverse mass so large that K
+// overflowed, leave none, and an impulse from 1/k would not be finite). Branch-free, so that a loop
+// over eight rods vectorises (joint_batches.cpp).
+struct RodImpulse {
+  float impulse;
+  bool solvable;
+};
+
+inline RodImpulse rod_impulse(FxVec2f ra, FxVec2f rb, FxVec2f axis, float ma, float mb, float ia, float ib,
+                              float cdot, float bias, float mass_scale, float impulse_scale,
+                              float accumulated) {
+  const float cra = cross(ra, axis);
+  const float crb = cross(rb, axis);
+  const float k = ma + mb + ia * cra * cra + ib * crb * crb;
+  const bool solvable = (k > 0.0f) & (k <= 3.40282347e+38f);
+  return {-(mass_scale / k) * (cdot + bias) - impulse_scale * accumulated, solvable};
+}
+
+// The impulse a rod applies once its accumulated total is held within max_anchor_speed over
+// ma + mb.
+inline float clamped_rod_impulse(float impulse, float accumulated, float anchor_speed, float inv_mass_sum) {
+  const float total = accumulated + impulse;
+  const float max_impulse = anchor_speed / inv_mass_sum;
+  return std::fabs(total) > max_impulse ? std::copysign(max_impulse, total) - accumulated : impulse;
 }
 
 // One pass of a rod of `rest_length` between the anchors: soft (use_bias) or rigid.
@@ -111,37 +149,30 @@ inline void solve_distance(JointBodies& bodies, const JointFrame& frame, float r
                            float within_limit = 0.0f) {
   const FxVec2f ra = rotate(bodies.a.delta_rotation, frame.anchor_a);
   const FxVec2f rb = rotate(bodies.b.delta_rotation, frame.anchor_b);
-  const FxVec2f separation = current_separation(bodies, frame, ra, rb);
-  const FxVec2f axis = normalize(separation);
-  const float cra = cross(ra, axis);
-  const float crb = cross(rb, axis);
-  const float k = bodies.inv_mass_a + bodies.inv_mass_b + bodies.inv_inertia_a * cra * cra +
-                  bodies.inv_inertia_b * crb * crb;
-  // No finite effective mass (both ends immovable, or an inverse mass so large that K overflowed):
-  // this joint cannot move its bodies, and an impulse from 1/k would not be finite.
-  if (!(k > 0.0f && std::isfinite(k))) return;
+  const RodAxis rod = rod_axis(current_separation(bodies, frame, ra, rb));
   float bias = 0.0f;
   float mass_scale = 1.0f;
   float impulse_scale = 0.0f;
   if (use_bias) {
     // Unlike a contact's push-out, a joint's correction is not capped at a speed: its error is the
     // load it carries, and a capped pull lets a chain under a heavy load yield without end. What
-    // two joints that cannot both hold do to a body stays bounded by max_joint_impulse and the
-    // speed limits.
-    const float error = length(separation) - rest_length;
-    bias = params.softness.bias_rate * error;
+    // two joints that cannot both hold do to a body stays bounded by the clamp and the speed limits.
+    bias = params.softness.bias_rate * (rod.length - rest_length);
     mass_scale = params.softness.mass_scale;
     impulse_scale = params.softness.impulse_scale;
   }
-  const float cdot = dot(anchors_relative_velocity(bodies, ra, rb), axis);
-  float impulse = -(mass_scale / k) * (cdot + bias) - impulse_scale * accumulated;
-  const float total = accumulated + impulse;
-  if (!(std::fabs(total) < within_limit)) {
-    const float max_impulse = max_joint_impulse(params, bodies, ra, rb);
-    if (std::fabs(total) > max_impulse) impulse = std::copysign(max_impulse, total) - accumulated;
+  const RodImpulse solved = rod_impulse(
+      ra, rb, rod.axis, bodies.inv_mass_a, bodies.inv_mass_b, bodies.inv_inertia_a, bodies.inv_inertia_b,
+      dot(anchors_relative_velocity(bodies, ra, rb), rod.axis), bias, mass_scale, impulse_scale, accumulated);
+  // This pass leaves the bodies alone.
+  if (!solved.solvable) return;
+  float impulse = solved.impulse;
+  if (!(std::fabs(accumulated + impulse) < within_limit)) {
+    impulse = clamped_rod_impulse(impulse, accumulated, max_anchor_speed(params, ra, rb),
+                                  bodies.inv_mass_a + bodies.inv_mass_b);
   }
   accumulated += impulse;
-  apply_joint_impulse(bodies, ra, rb, impulse * axis);
+  apply_joint_impulse(bodies, ra, rb, impulse * rod.axis);
 }
 
 inline void warm_start_revolute(JointBodies& bodies, const JointFrame& frame, FxVec2f impulse) {
