@@ -297,12 +297,12 @@ std::vector<std::uint32_t> pose_bits(const std::vector<std::shared_ptr<FxEntity>
 }
 
 // Six pendulums side by side, each two links pinned end to end and hung from an anchor by a rod
-// to the first link's free end, swinging down from level; with `forward_every` > 0 every such
-// constraint, in order, is a user's Forwarding one. The pendulums share no body, so the order in
-// which the step takes one pendulum's constraints against another's is moot, and each pendulum's
-// pin comes before its rod either way (the pins' batches first, then the other rows in order).
-// The pin joins two bodies that move, so every term of its arithmetic counts. The bits after two
-// seconds.
+// to the first link's free end, swinging down from level; with `forward_every` > 0 both
+// constraints of every such pendulum, in order, are a user's Forwarding ones. The pendulums share
+// no body, so the order in which the step takes one pendulum's constraints against another's is
+// moot, and each pendulum's pin comes before its rod either way (the pins' batches, then the rods',
+// then the other rows in order). The pin joins two bodies that move, so every term of its
+// arithmetic counts. The bits after two seconds.
 std::vector<std::uint32_t> swing_pendulums(int forward_every) {
   FxSceneSettings settings;
   settings.sleeping = false;
@@ -323,14 +323,14 @@ std::vector<std::uint32_t> swing_pendulums(int forward_every) {
     bodies.insert(bodies.end(), {first, second});
   }
   for (std::size_t i = 0; i < joints.size(); ++i) {
-    const bool forwarded = forward_every > 0 && i % static_cast<std::size_t>(forward_every) == 0;
+    const bool forwarded = forward_every > 0 && i / 2 % static_cast<std::size_t>(forward_every) == 0;
     scene.add_constraint(forwarded ? std::make_shared<Forwarding>(joints[i]) : joints[i]);
   }
   test::run(scene, 2.0f);
   return pose_bits(bodies);
 }
 
-// The provided joints solved as the step's rows (the pins eight to a batch, in lanes) and solved
+// The provided joints solved as the step's rows (eight to a batch, in lanes) and solved
 // through the public calls a user's solver makes give the same bits, in any mix.
 TEST(Joints, RowsAndTheContextCallsGiveTheSameBits) {
   const std::vector<std::uint32_t> as_rows = swing_pendulums(0);
@@ -340,10 +340,11 @@ TEST(Joints, RowsAndTheContextCallsGiveTheSameBits) {
   EXPECT_NE(as_rows[6 + 1], std::bit_cast<std::uint32_t>(10.0f));
 }
 
-// A 12 x 12 lattice of circles pinned to their neighbours, hanging from two corners, and a chain
-// with a heavy load: the pins' batches, vectorised and lane by lane (the scalar twin), give the
-// same bits.
-std::vector<std::uint32_t> swing_lattice(bool force_scalar) {
+// A 12 x 12 lattice of circles joined to their neighbours, hanging from two corners: with `rods`,
+// each to its right-hand neighbour by a rod (a distance joint between the centres) and to the one
+// below by a pin, so that the pins' batches and the rods' share bodies; else by pins alone. The
+// batches, vectorised and lane by lane (the scalar twin), give the same bits.
+std::vector<std::uint32_t> swing_lattice(bool force_scalar, bool rods = false) {
   FxSceneSettings settings;
   settings.sleeping = false;
   settings.force_scalar_solver = force_scalar;
@@ -354,9 +355,12 @@ std::vector<std::uint32_t> swing_lattice(bool force_scalar) {
     for (int column = 0; column < side; ++column) {
       const FxVec2f at{0.5f * static_cast<float>(column), 10.0f - 0.5f * static_cast<float>(row)};
       bodies.push_back(add_circle(scene, at, 0.1f));
-      if (column > 0)
-        scene.add_constraint(std::make_shared<FxRevoluteJoint>(bodies[bodies.size() - 2], bodies.back(),
-                                                               at - FxVec2f{0.25f, 0.0f}));
+      const auto& left = bodies[bodies.size() - 2];
+      if (column > 0 && rods)
+        scene.add_constraint(std::make_shared<FxDistanceJoint>(left, bodies.back(), FxVec2f{}, FxVec2f{}));
+      if (column > 0 && !rods)
+        scene.add_constraint(
+            std::make_shared<FxRevoluteJoint>(left, bodies.back(), at - FxVec2f{0.25f, 0.0f}));
       if (row > 0)
         scene.add_constraint(std::make_shared<FxRevoluteJoint>(bodies[bodies.size() - 1 - side],
                                                                bodies.back(), at + FxVec2f{0.0f, 0.25f}));
@@ -377,22 +381,32 @@ TEST(Joints, BatchedPinsAgreeWithTheirScalarTwinToTheBit) {
   EXPECT_NE(lanes[lanes.size() - 6], std::bit_cast<std::uint32_t>(0.5f * 11.0f));
 }
 
-// A hub pinned to 40 spokes, more than PinBatches' 32 colours can hold around one body: the pins
-// past the 32nd are solved one by one after the batches. The hub is hung from an anchor and each
-// spoke swings on its pin. Returns the largest pin gap and the bits of every body.
+TEST(Joints, BatchedRodsAgreeWithTheirScalarTwinToTheBit) {
+  const std::vector<std::uint32_t> lanes = swing_lattice(false, true);
+  EXPECT_EQ(swing_lattice(true, true), lanes);
+  EXPECT_NE(lanes, swing_lattice(false));
+  EXPECT_NE(lanes[lanes.size() - 6], std::bit_cast<std::uint32_t>(0.5f * 11.0f));
+}
+
+// A hub joined to 40 spokes, more than JointBatches' 32 colours can hold around one body: the joints
+// past the 32nd are solved one by one after the batches. The hub is hung from an anchor by a pin
+// and each spoke swings on its pin or, with `rods`, on a rod from the hub's centre to the spoke's
+// near end. Returns how far the worst joint opened (a pin's gap, a rod's stretch) and the bits of
+// every body.
 struct HubResult {
   float worst_gap = 0.0f;
   std::vector<std::uint32_t> bits;
 };
 
-HubResult swing_hub(bool force_scalar) {
+HubResult swing_hub(bool force_scalar, bool rods = false) {
   FxSceneSettings settings;
   settings.sleeping = false;
   settings.force_scalar_solver = force_scalar;
   FxScene scene(settings);
   std::vector<std::shared_ptr<FxEntity>> bodies{test::add_circle(scene, {0.0f, 10.0f}, 0.5f)};
-  std::vector<std::shared_ptr<FxRevoluteJoint>> joints{
+  std::vector<std::shared_ptr<FxRevoluteJoint>> pins{
       std::make_shared<FxRevoluteJoint>(add_anchor(scene, {0.0f, 10.0f}), bodies[0], FxVec2f{0.0f, 10.0f})};
+  std::vector<std::shared_ptr<FxDistanceJoint>> spoke_rods;
   FxEntityDef spoke;
   spoke.shape = FxShape::box(0.5f, 0.02f);
   for (int i = 0; i < 40; ++i) {
@@ -400,14 +414,23 @@ HubResult swing_hub(bool force_scalar) {
     spoke.position = FxVec2f{0.0f, 10.0f} + rotate(turn, FxVec2f{1.0f, 0.0f});
     spoke.angle = turn.angle();
     bodies.push_back(scene.create_entity(spoke));
-    joints.push_back(std::make_shared<FxRevoluteJoint>(
-        bodies[0], bodies.back(), FxVec2f{0.0f, 10.0f} + rotate(turn, FxVec2f{0.5f, 0.0f})));
+    if (rods) {
+      spoke_rods.push_back(
+          std::make_shared<FxDistanceJoint>(bodies[0], bodies.back(), FxVec2f{}, FxVec2f{-0.5f, 0.0f}));
+    } else {
+      pins.push_back(std::make_shared<FxRevoluteJoint>(
+          bodies[0], bodies.back(), FxVec2f{0.0f, 10.0f} + rotate(turn, FxVec2f{0.5f, 0.0f})));
+    }
   }
-  for (const auto& joint : joints) scene.add_constraint(joint);
+  for (const auto& joint : pins) scene.add_constraint(joint);
+  for (const auto& joint : spoke_rods) scene.add_constraint(joint);
   HubResult result;
   for (int step = 0; step < 120; ++step) {
     scene.step();
-    for (const auto& joint : joints) result.worst_gap = std::max(result.worst_gap, joint->anchor_gap());
+    for (const auto& joint : pins) result.worst_gap = std::max(result.worst_gap, joint->anchor_gap());
+    for (const auto& joint : spoke_rods) {
+      result.worst_gap = std::max(result.worst_gap, std::fabs(joint->current_length() - joint->length()));
+    }
   }
   result.bits = pose_bits(bodies);
   return result;
@@ -419,6 +442,13 @@ TEST(Joints, PinsBeyondTheColoursAreSolvedAfterTheBatches) {
   // 41 light bodies hanging from one pin: each spoke's pin carries its own spoke's weight.
   EXPECT_LT(lanes.worst_gap, 0.01f);
   // The spokes did swing: the first one (level at the start) turned.
+  EXPECT_NE(lanes.bits[6 + 2], std::bit_cast<std::uint32_t>(0.0f));
+}
+
+TEST(Joints, RodsBeyondTheColoursAreSolvedAfterTheBatches) {
+  const HubResult lanes = swing_hub(false, true);
+  EXPECT_EQ(swing_hub(true, true).bits, lanes.bits);
+  EXPECT_LT(lanes.worst_gap, 0.01f);
   EXPECT_NE(lanes.bits[6 + 2], std::bit_cast<std::uint32_t>(0.0f));
 }
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Writes the joint scenes beside this script: joint_grid.json and chain.json.
+"""Writes the joint scenes beside this script: joint_grid.json, chain.json and rope.json.
 
     /usr/bin/python3 scenes/joints/make_joint_scenes.py
 
@@ -11,6 +11,8 @@ two do, with Fx2D against Box2D and ODE on the same bodies:
 - chain: 200 links of 0.5 x 0.1 m pinned end to end, the first to a static anchor, released level;
   the chain swings down. Deeper than any support chain the shallow schedule takes (32), so every
   step runs the full schedule.
+- rope: 200 circles of radius 0.1 m, 0.5 m apart, each tied to the next by a distance joint between
+  their centres, the first to a static anchor, released level: the chain's swing on distance joints.
 """
 import json
 import pathlib
@@ -67,5 +69,15 @@ def chain(links=200):
                  "(scenes/joints/make_joint_scenes.py).", bodies, joints)
 
 
-for made in (joint_grid(), chain()):
+def rope(links=200):
+    bodies = [{"type": "static", "shape": {"circle": 0.1}, "position": [0, 50]}]
+    joints = []
+    for i in range(links):
+        bodies.append({"shape": {"circle": 0.1}, "position": [0.5 * (i + 1), 50]})
+        joints.append({"type": "distance", "a": i, "b": i + 1, "anchor_a": [0, 0], "anchor_b": [0, 0]})
+    return scene("rope", "200 circles tied end to end by distance joints from a static anchor, released "
+                 "level (scenes/joints/make_joint_scenes.py).", bodies, joints)
+
+
+for made in (joint_grid(), chain(), rope()):
     (HERE / f"{made['name']}.json").write_text(json.dumps(made, separators=(",", ":")) + "\n")

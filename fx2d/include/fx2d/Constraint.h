@@ -9,8 +9,9 @@
 // error) and once without it in each of the first FxSceneSettings::joint_relax_passes relaxation
 // passes. The joints Fx2D provides it solves itself, with the same arithmetic, making no virtual
 // call per pass: the revolute joints first, coloured so that no two of a colour share a moving
-// body and solved eight at a time, colour by colour; then the distance joints and the user's
-// constraints in the order they were added. Their own prepare(), warm_start() and evaluate()
+// body and solved eight at a time, colour by colour; then the distance joints likewise; then the
+// user's constraints (and any joint beyond 32 colours around one body) in the order they were
+// added. Their own prepare(), warm_start() and evaluate()
 // serve a user's solver, or a constraint of the user's that hands its calls on to one of them.
 //
 // Two entities joined by a constraint never collide with each other.

@@ -105,7 +105,8 @@ inline RodAxis rod_axis(FxVec2f separation) {
   const float distance = length(separation);
   const float inverse = 1.0f / distance;
   const bool apart = !(distance < 1.0e-12f);
-  return {apart ? FxVec2f{inverse * separation.x, inverse * separation.y} : FxVec2f{}, distance};
+  // Chosen coordinate by coordinate: a choice of whole vectors is one Clang's loop vectoriser refuses.
+  return {{apart ? inverse * separation.x : 0.0f, apart ? inverse * separation.y : 0.0f}, distance};
 }
 
 inline void warm_start_distance(JointBodies& bodies, const JointFrame& frame, float impulse) {
@@ -115,24 +116,23 @@ inline void warm_start_distance(JointBodies& bodies, const JointFrame& frame, fl
   apply_joint_impulse(bodies, ra, rb, impulse * axis);
 }
 
-// What one pass of a rod works out before its impulse is clamped and applied: the impulse along
-// its axis that takes the anchors' closing speed `cdot` plus `bias` to zero, softened, and whether
-// the rod's effective mass is finite (both ends immovable, or an inverse mass so large that K
-// overflowed, leave none, and an impulse from 1/k would not be finite). Branch-free, so that a loop
-// over eight rods vectorises (joint_batches.cpp).
-struct RodImpulse {
-  float impulse;
-  bool solvable;
-};
-
-inline RodImpulse rod_impulse(FxVec2f ra, FxVec2f rb, FxVec2f axis, float ma, float mb, float ia, float ib,
-                              float cdot, float bias, float mass_scale, float impulse_scale,
-                              float accumulated) {
+// A rod's effective mass K along its axis (as 1/K it turns a closing speed into an impulse), and
+// whether K is finite: both ends immovable, or an inverse mass so large that K overflowed, leave
+// none, and an impulse from 1/K would not be finite. Branch-free, so that a loop over eight rods
+// vectorises (joint_batches.cpp).
+inline float rod_mass(FxVec2f ra, FxVec2f rb, FxVec2f axis, float ma, float mb, float ia, float ib) {
   const float cra = cross(ra, axis);
   const float crb = cross(rb, axis);
-  const float k = ma + mb + ia * cra * cra + ib * crb * crb;
-  const bool solvable = (k > 0.0f) & (k <= 3.40282347e+38f);
-  return {-(mass_scale / k) * (cdot + bias) - impulse_scale * accumulated, solvable};
+  return ma + mb + ia * cra * cra + ib * crb * crb;
+}
+
+inline bool rod_solvable(float k) { return (k > 0.0f) & (k <= 3.40282347e+38f); }
+
+// The impulse along a rod's axis that takes the anchors' closing speed `cdot` plus `bias` to zero,
+// softened, before it is clamped.
+inline float rod_impulse(float k, float cdot, float bias, float mass_scale, float impulse_scale,
+                         float accumulated) {
+  return -(mass_scale / k) * (cdot + bias) - impulse_scale * accumulated;
 }
 
 // The impulse a rod applies once its accumulated total is held within max_anchor_speed over
@@ -161,12 +161,12 @@ inline void solve_distance(JointBodies& bodies, const JointFrame& frame, float r
     mass_scale = params.softness.mass_scale;
     impulse_scale = params.softness.impulse_scale;
   }
-  const RodImpulse solved = rod_impulse(
-      ra, rb, rod.axis, bodies.inv_mass_a, bodies.inv_mass_b, bodies.inv_inertia_a, bodies.inv_inertia_b,
-      dot(anchors_relative_velocity(bodies, ra, rb), rod.axis), bias, mass_scale, impulse_scale, accumulated);
+  const float k = rod_mass(ra, rb, rod.axis, bodies.inv_mass_a, bodies.inv_mass_b, bodies.inv_inertia_a,
+                           bodies.inv_inertia_b);
   // This pass leaves the bodies alone.
-  if (!solved.solvable) return;
-  float impulse = solved.impulse;
+  if (!rod_solvable(k)) return;
+  float impulse = rod_impulse(k, dot(anchors_relative_velocity(bodies, ra, rb), rod.axis), bias, mass_scale,
+                              impulse_scale, accumulated);
   if (!(std::fabs(accumulated + impulse) < within_limit)) {
     impulse = clamped_rod_impulse(impulse, accumulated, max_anchor_speed(params, ra, rb),
                                   bodies.inv_mass_a + bodies.inv_mass_b);
@@ -183,7 +183,7 @@ inline void warm_start_revolute(JointBodies& bodies, const JointFrame& frame, Fx
 // What one pass of a pin works out before its impulse is clamped and applied: the impulse that
 // takes the anchors' relative velocity `cdot` (bias included) to zero through the point
 // constraint's 2x2 effective-mass matrix, softened, and whether that matrix could be inverted.
-// Branch-free, so that a loop over eight pins vectorises (pin_batches.cpp).
+// Branch-free, so that a loop over eight pins vectorises (joint_batches.cpp).
 struct PinImpulse {
   FxVec2f impulse;
   bool solvable;

@@ -42,13 +42,17 @@ void JointRows::prepare(const Constraints& constraints, const Bodies& bodies, Fx
     row.within_limit = impulse_surely_within_limit(params_, sa.inv_mass + sb.inv_mass, row.frame);
     rows_.push_back(row);
   }
-  pins_.pack(rows_, states, static_cast<std::uint32_t>(states.size() - 1), packed_);
+  const auto padding_state = static_cast<std::uint32_t>(states.size() - 1);
+  packed_.assign(rows_.size(), 0);
+  pins_.pack(rows_, states, padding_state, packed_);
+  rods_.pack(rows_, states, padding_state, packed_);
 }
 
 // Invariant of both loops: rows_ and owners_ are in the constraints' order, and a row's state
 // indices hold for the whole step (no body is added or removed within it).
 void JointRows::warm_start(std::span<FxBodyState> states, bool scalar) {
   pins_.warm_start(states, scalar);
+  rods_.warm_start(states, scalar);
   for (std::size_t i = 0; i < rows_.size(); ++i) {
     if (packed_[i]) continue;
     Row& row = rows_[i];
@@ -72,6 +76,7 @@ void JointRows::warm_start(std::span<FxBodyState> states, bool scalar) {
 
 void JointRows::evaluate(std::span<FxBodyState> states, bool use_bias, bool scalar) {
   pins_.solve(states, params_, use_bias, scalar);
+  rods_.solve(states, params_, use_bias, scalar);
   for (std::size_t i = 0; i < rows_.size(); ++i) {
     if (packed_[i]) continue;
     Row& row = rows_[i];
@@ -96,7 +101,9 @@ void JointRows::evaluate(std::span<FxBodyState> states, bool use_bias, bool scal
 void JointRows::store() const {
   for (std::size_t i = 0; i < rows_.size(); ++i) {
     const Row& row = rows_[i];
-    if (row.kind == Kind::distance_joint) static_cast<FxDistanceJoint*>(owners_[i])->impulse_ = row.impulse.x;
+    if (row.kind == Kind::distance_joint) {
+      static_cast<FxDistanceJoint*>(owners_[i])->impulse_ = packed_[i] ? rods_.impulse(i).x : row.impulse.x;
+    }
     if (row.kind == Kind::revolute_joint) {
       static_cast<FxRevoluteJoint*>(owners_[i])->impulse_ = packed_[i] ? pins_.impulse(i) : row.impulse;
     }

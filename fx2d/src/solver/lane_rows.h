@@ -190,7 +190,7 @@ FX2D_LANE_INLINE void from_lanes(const float* lanes, LaneColumn& column) {
 }
 
 // What the batched passes gather of a batch's two bodies per lane, for any batch that names them by
-// state byte offsets in `state_a` and `state_b` (ContactBatch, PinBatch).
+// state byte offsets in `state_a` and `state_b` (ContactBatch, PinBatch, RodBatch).
 //
 // The velocities as unit-stride arrays, for the solve loop; the bodies' flags (the rows' fourth
 // column) ride along unchanged.

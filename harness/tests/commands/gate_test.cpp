@@ -74,7 +74,7 @@ std::string only_verdict(std::vector<json> rows) {
 // nightly like the contacts.
 TEST(GatePolicy, CommittedPolicyNamesTheCanonicalScenesAtTheirMiddleSizesOnAllEngines) {
   const Policy policy = read_policy(std::string(FX2D_SOURCE_DIR) + "/ci/gating.json");
-  ASSERT_EQ(policy.suite.scenes.size(), 5u);
+  ASSERT_EQ(policy.suite.scenes.size(), 6u);
   EXPECT_EQ(policy.suite.scenes[0].scene, "pile");
   EXPECT_EQ(policy.suite.scenes[0].bodies, 600);
   EXPECT_EQ(policy.suite.scenes[1].scene, "stacks");
@@ -83,7 +83,8 @@ TEST(GatePolicy, CommittedPolicyNamesTheCanonicalScenesAtTheirMiddleSizesOnAllEn
   EXPECT_EQ(policy.suite.scenes[2].bodies, 800);
   EXPECT_EQ(policy.suite.scenes[3].scene, "scenes/joints/chain.json");
   EXPECT_EQ(policy.suite.scenes[4].scene, "scenes/joints/joint_grid.json");
-  EXPECT_EQ(policy.suite.scenes[3].bodies + policy.suite.scenes[4].bodies, 0);
+  EXPECT_EQ(policy.suite.scenes[5].scene, "scenes/joints/rope.json");
+  EXPECT_EQ(policy.suite.scenes[3].bodies + policy.suite.scenes[4].bodies + policy.suite.scenes[5].bodies, 0);
   EXPECT_EQ(policy.suite.engines, (std::vector<std::string>{"fx2d", "box2d", "ode"}));
   EXPECT_EQ(policy.controls, (std::vector<std::string>{"box2d", "ode"}));
   for (const Quarantine& entry : policy.quarantine) EXPECT_FALSE(entry.reason.empty());
@@ -373,8 +374,8 @@ std::vector<std::string> lines_of(const std::string& out, const std::string& pre
 }
 
 // Two shards of the committed suite hold every scene once, balanced by bodies: settling_boxes 800
-// and pile 600 against stacks 200 and the jointed scenes as they stand (200 and 894 bodies), under
-// one identity of the whole suite. Its scene files are paths from the source tree's root.
+// and pile 600 against stacks 200 and the jointed scenes as they stand (200, 894 and 200 bodies),
+// under one identity of the whole suite. Its scene files are paths from the source tree's root.
 TEST_F(GateCommand, PrintsOneShardOfTheSuiteBalancedByBodies) {
   const std::string policy = std::string(FX2D_SOURCE_DIR) + "/ci/gating.json";
   const auto shard = [&](const std::string& suite, const std::string& part) {
@@ -387,10 +388,10 @@ TEST_F(GateCommand, PrintsOneShardOfTheSuiteBalancedByBodies) {
   ASSERT_EQ(second.exit_code, 0) << second.err;
   EXPECT_EQ(lines_of(first.out, "scene "),
             (std::vector<std::string>{"stacks 200", "scenes/joints/chain.json -",
-                                      "scenes/joints/joint_grid.json -"}));
+                                      "scenes/joints/joint_grid.json -", "scenes/joints/rope.json -"}));
   EXPECT_EQ(lines_of(second.out, "scene "), (std::vector<std::string>{"pile 600", "settling_boxes 800"}));
   EXPECT_EQ(lines_of(first.out, "shard "), std::vector<std::string>{"1/2"});
-  EXPECT_EQ(lines_of(first.out, "work_items "), std::vector<std::string>{"5"});
+  EXPECT_EQ(lines_of(first.out, "work_items "), std::vector<std::string>{"6"});
   EXPECT_EQ(lines_of(first.out, "work_list "), lines_of(second.out, "work_list "));
   const bench_test::Ending smoke = shard("smoke", "1/2");
   EXPECT_NE(lines_of(first.out, "work_list "), lines_of(smoke.out, "work_list "));

@@ -138,6 +138,8 @@ INSTANTIATE_TEST_SUITE_P(
         // 200 pinned links: a support chain deep enough for the full schedule in every step (the
         // scene above takes it only while its ball bounces).
         GoldenCase{"chain", "scenes/joints/chain.json", 0, nullptr},
+        // The chain's swing on 200 distance joints: the rods' batches.
+        GoldenCase{"rope", "scenes/joints/rope.json", 0, nullptr},
         // The schedule the seeds chose, still selectable (issue 19).
         GoldenCase{"settling_boxes_200_14x4r4", "scenes/settling_boxes.json", 200, nullptr, 14, 4, 4},
         GoldenCase{"joints_and_bounce_14x4r4", "scenes/tests/joints_and_bounce.json", 0, nullptr, 14, 4, 4}),
