@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <initializer_list>
 #include <map>
 #include <sstream>
@@ -100,8 +101,16 @@ class PolicyReader {
       const std::string where = pointer + "/scenes/" + std::to_string(i);
       expect_object(scenes[i], where, {"scene", "bodies"}, {"scene"});
       const json& bodies = scenes[i].contains("bodies") ? scenes[i]["bodies"] : json();
-      suite.scenes.push_back({text(scenes[i]["scene"], where + "/scene"),
-                              bodies.is_null() ? 0 : integer(bodies, where + "/bodies", 1, 1'000'000)});
+      SuiteScene scene{text(scenes[i]["scene"], where + "/scene"),
+                       bodies.is_null() ? 0 : integer(bodies, where + "/bodies", 1, 1'000'000), ""};
+      scene.name = std::filesystem::path(scene.scene).stem().string();
+      if (scene.bodies > 0) scene.name += "_" + std::to_string(scene.bodies);
+      // Two scenes of one name would write over each other's files in the night.
+      if (std::ranges::find(suite.scenes, scene.name, &SuiteScene::name) != suite.scenes.end()) {
+        fail(where + "/scene", "expected a scene a night can name apart from the others, got a second '" +
+                                   scene.name + "' (its file's stem, and _N at a size)");
+      }
+      suite.scenes.push_back(scene);
     }
     suite.rounds = rounds(value["rounds"], pointer + "/rounds", alpha);
     suite.steps = integer(value["steps"], pointer + "/steps", 1, 1'000'000);

@@ -40,6 +40,7 @@ struct Thresholds {
 struct SuiteScene {
   std::string scene;  // an embedded scene's name, or a scene file's path from the working directory
   int bodies = 0;     // its size parameter N, or 0 for the scene as it stands (a file listing its bodies)
+  std::string name;   // what a night's files for it are called: its file's stem, and _N at a size
 };
 
 // What the nightly job measures: ci/nightly reads it through `fx2d-bench gate --print-suite`.

@@ -3,7 +3,8 @@
 // prints) against the committed policy: each scene's own thresholds, quarantined rows dropped
 // with their reason, controls that flag a noisy machine (gate_policy.h holds the rules).
 // `--print-suite full|smoke` prints what the nightly job measures, one fact a line, for ci/nightly
-// (`scene NAME N`, or `scene FILE -` for a scene run as it stands);
+// (`scene pile 600 pile_600`, or `scene FILE - STEM` for a scene run as it stands: the scene, its
+// size and what the night's files for it are called);
 // with `--shard K/N|auto`, only the scenes of that part of the suite (a scene and its controls are
 // one work item: the controls of a comparison run on the machine that measured it), balanced by
 // bodies, with the part and the whole suite's identity, which `ci/nightly --collect` checks.
@@ -62,7 +63,8 @@ std::string suite_lines(const std::string& name, const Suite& suite, const Shard
   }
   std::string text = settings + "shard " + shard.text() + "\nwork_items " + std::to_string(costs.size()) +
                      "\nwork_list " + work_list_identity(keys) + "\n";
-  for (std::size_t item : items_of(shard, costs)) text += "scene " + keys[item + 1] + "\n";
+  for (std::size_t item : items_of(shard, costs))
+    text += "scene " + keys[item + 1] + " " + suite.scenes[item].name + "\n";
   return text;
 }
 

@@ -361,7 +361,7 @@ TEST_F(GateCommand, PrintsTheSuiteForTheNightlyScript) {
   EXPECT_EQ(ending.exit_code, 0) << ending.err;
   const std::string settings = "engines fx2d,box2d,ode\nrounds 8\nsteps 50\nshard 1/1\nwork_items 1\nwork_list ";
   EXPECT_EQ(ending.out.substr(0, settings.size()), settings) << ending.out;
-  EXPECT_TRUE(ending.out.ends_with("\nscene pile 600\n")) << ending.out;
+  EXPECT_TRUE(ending.out.ends_with("\nscene pile 600 pile_600\n")) << ending.out;
 }
 
 // The lines of `out` that start with `prefix`, the prefix dropped.
@@ -387,14 +387,33 @@ TEST_F(GateCommand, PrintsOneShardOfTheSuiteBalancedByBodies) {
   ASSERT_EQ(first.exit_code, 0) << first.err;
   ASSERT_EQ(second.exit_code, 0) << second.err;
   EXPECT_EQ(lines_of(first.out, "scene "),
-            (std::vector<std::string>{"stacks 200", "scenes/joints/chain.json -",
-                                      "scenes/joints/joint_grid.json -", "scenes/joints/rope.json -"}));
-  EXPECT_EQ(lines_of(second.out, "scene "), (std::vector<std::string>{"pile 600", "settling_boxes 800"}));
+            (std::vector<std::string>{"stacks 200 stacks_200", "scenes/joints/chain.json - chain",
+                                      "scenes/joints/joint_grid.json - joint_grid",
+                                      "scenes/joints/rope.json - rope"}));
+  EXPECT_EQ(lines_of(second.out, "scene "),
+            (std::vector<std::string>{"pile 600 pile_600", "settling_boxes 800 settling_boxes_800"}));
   EXPECT_EQ(lines_of(first.out, "shard "), std::vector<std::string>{"1/2"});
   EXPECT_EQ(lines_of(first.out, "work_items "), std::vector<std::string>{"6"});
   EXPECT_EQ(lines_of(first.out, "work_list "), lines_of(second.out, "work_list "));
   const bench_test::Ending smoke = shard("smoke", "1/2");
   EXPECT_NE(lines_of(first.out, "work_list "), lines_of(smoke.out, "work_list "));
+}
+
+// The night names a scene's files after its file's stem and size: two suite scenes of one name
+// would write over each other's, and the policy is refused; one scene at two sizes is two names.
+TEST(GatePolicy, TwoSuiteScenesOfOneNameAreRefused) {
+  const std::string pile = R"({"scene": "pile", "bodies": 600})";
+  expect_policy_error(replaced(test_policy, pile, R"({"scene": "a/rope.json"}, {"scene": "b/rope.json"})"),
+                      "/suite/scenes/1/scene: expected a scene a night can name apart from the others, got a "
+                      "second 'rope' (its file's stem, and _N at a size)");
+  expect_policy_error(
+      replaced(test_policy, pile,
+               R"({"scene": "pile", "bodies": 600}, {"scene": "scenes/pile.json", "bodies": 600})"),
+      "got a second 'pile_600'");
+  const Policy sizes = parse_policy(
+      replaced(test_policy, pile, R"({"scene": "pile", "bodies": 600}, {"scene": "pile", "bodies": 300})"),
+      "policy.json");
+  EXPECT_EQ(sizes.suite.scenes[1].name, "pile_300");
 }
 
 // A suite's scene without bodies runs as it stands (`-`); one that cannot be read is refused with
@@ -410,7 +429,7 @@ TEST_F(GateCommand, ASuiteSceneWithoutBodiesRunsAsItStands) {
   };
   const bench_test::Ending ending = print_suite();
   EXPECT_EQ(ending.exit_code, 0) << ending.err;
-  EXPECT_EQ(lines_of(ending.out, "scene "), std::vector<std::string>{"listed.json -"});
+  EXPECT_EQ(lines_of(ending.out, "scene "), std::vector<std::string>{"listed.json - listed"});
   fs::remove(listed);
   const bench_test::Ending missing = print_suite();
   EXPECT_EQ(missing.exit_code, 2);
