@@ -31,8 +31,12 @@ namespace detail {
 class JointRows;
 }
 
-// The solver's per-body state during a step. Hot: every velocity pass reads and writes it.
-struct FxBodyState {
+// The solver's per-body state during a step. Hot: every velocity pass reads and writes it. Aligned
+// to its size, so that each state lies in one cache line: from the 16-byte alignment malloc gives,
+// every other state straddled two wherever the array happened to start 16 bytes off, and two
+// builds of the same code differed by that alone (the relax stage 0.81-0.83 of the time once
+// aligned, settling_boxes and stacks at 50 bodies).
+struct alignas(32) FxBodyState {
   FxVec2f linear_velocity;   // m/s of the centre of mass
   float angular_velocity = 0.0f;
   std::uint32_t flags = 0;   // reserved for the solver
