@@ -145,10 +145,19 @@ void progress_line(const std::string& text) { std::cerr << "fx2d-bench: " << tex
 
 fs::path built_plugin(const BuildRequest& request) { return request.directory / "build" / plugin_file_name; }
 
+// Whether `build` was configured with this plugin description. A worktree's names the HEAD it is
+// of, which moves while its cache entry stays: configured once, the plugin went on calling itself
+// "of" the HEAD of its first build.
+bool configured_as(const fs::path& build, const std::string& description) {
+  const fs::path cache = build / "CMakeCache.txt";
+  return fs::exists(cache) && file_text(cache).find("\nFX2D_BENCH_PLUGIN_DESCRIPTION:STRING=" + description +
+                                                    "\n") != std::string::npos;
+}
+
 void configure_and_build(const BuildRequest& request) {
   const fs::path log = request.directory / "build.log";
   const fs::path build = request.directory / "build";
-  if (!fs::exists(build / "CMakeCache.txt")) {
+  if (!configured_as(build, request.plugin_description)) {
     std::vector<std::string> configure = {FX2D_BENCH_CMAKE_COMMAND,
                                           "-S",
                                           request.project.string(),

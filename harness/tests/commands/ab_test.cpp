@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -163,6 +164,21 @@ TEST_F(AbTest, APluginOfThisBuildTreeAndTheCheckoutBuiltByAbCountTheSameInstruct
       << ab.err;
   const nlohmann::json counted = row_of(nlohmann::json::parse(ab.out), "instructions_per_step");
   EXPECT_EQ(counted["a"], counted["b"]) << counted.dump();
+  // The plugin's compiled-in description names today's HEAD, not the one of its cache entry's
+  // first build: its build directory is configured again when the description changes.
+  const std::string marker = "(plugin ";
+  const std::size_t plugin_at = ab.err.rfind(marker);
+  ASSERT_NE(plugin_at, std::string::npos) << ab.err;
+  const fs::path plugin =
+      ab.err.substr(plugin_at + marker.size(), ab.err.find(")\n", plugin_at) - plugin_at - marker.size());
+  std::ifstream cache(plugin.parent_path() / "CMakeCache.txt");
+  const std::string cached{std::istreambuf_iterator<char>(cache), {}};
+  const std::size_t head_at = ab.err.find(" (of ", ab.err.find("B = 0.1.0 worktree")) + 5;
+  const std::string head = ab.err.substr(head_at, ab.err.find(')', head_at) - head_at);
+  EXPECT_NE(cached.find("FX2D_BENCH_PLUGIN_DESCRIPTION:STRING=worktree " +
+                        fs::canonical(FX2D_SOURCE_DIR).string() + " (of " + head + ")"),
+            std::string::npos)
+      << head;
 }
 
 // `worktree` is the checkout of the current directory; outside one there is none to measure.
