@@ -11,8 +11,8 @@
 // call per pass: the revolute joints first, coloured so that no two of a colour share a moving
 // body and solved eight at a time, colour by colour; then the distance joints likewise; then the
 // user's constraints (and any joint beyond 32 colours around one body) in the order they were
-// added. Their own prepare(), warm_start() and evaluate()
-// serve a user's solver, or a constraint of the user's that hands its calls on to one of them.
+// added. Their own prepare(), warm_start() and evaluate() serve a user's solver, or a constraint of
+// the user's that hands its calls on to one of them.
 //
 // Two entities joined by a constraint never collide with each other.
 //

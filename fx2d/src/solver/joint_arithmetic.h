@@ -77,15 +77,14 @@ inline FxVec2f current_separation(const JointBodies& bodies, const JointFrame& f
 
 // The fastest a joint's anchors may close at, given the speed limits. A joint's accumulated impulse
 // is held within this speed over ma + mb, what stops them (K >= ma + mb in every direction, so no
-// rigid solve needs more). Redundant
-// joints, such as two pins between one pair of bodies, otherwise trade impulse between themselves
-// without limit; once the lever arms turn, that internal impulse becomes real torque and grows
-// geometrically from substep to substep.
+// rigid solve needs more). Redundant joints, such as two pins between one pair of bodies, otherwise
+// trade impulse between themselves without limit; once the lever arms turn, that internal impulse
+// becomes real torque and grows geometrically from substep to substep.
 inline float max_anchor_speed(const JointPassParams& params, FxVec2f anchor_a, FxVec2f anchor_b) {
   return 2.0f * params.max_linear_speed + params.max_angular_speed * (length(anchor_a) + length(anchor_b));
 }
 
-// An accumulated impulse below which max_joint_impulse surely does not bind for the whole step, or
+// An accumulated impulse below which that limit surely does not bind for the whole step, or
 // 0: the anchors turn within the step but keep their lengths to rounding, and a thousandth under
 // the limit at their lengths at the step's start covers that. Below it the clamp is skipped, with
 // its three square roots and a division, and the bits are those of taking it.
@@ -212,8 +211,8 @@ inline PinImpulse pin_impulse(FxVec2f ra, FxVec2f rb, float ma, float mb, float 
   return {-mass_scale * solved - impulse_scale * accumulated, solvable};
 }
 
-// The impulse a pin applies once its accumulated total is held within max_joint_impulse (the
-// speed its anchors may close at, `anchor_speed`, over ma + mb).
+// The impulse a pin applies once its accumulated total is held within the speed its anchors may
+// close at, `anchor_speed` (max_anchor_speed()), over ma + mb.
 inline FxVec2f clamped_pin_impulse(FxVec2f impulse, FxVec2f accumulated, float anchor_speed,
                                    float inv_mass_sum) {
   const FxVec2f total = accumulated + impulse;
