@@ -66,6 +66,11 @@ struct FaceSeparation {
 };
 
 // How far `other` lies beyond the face with `normal` through `origin`: its deepest vertex's distance.
+// Measured, not kept: every vertex at once, from the polygons' coordinates copied into two lanes of
+// eight (the last vertex repeated; the same bits, as the least value does not depend on the order
+// of comparison). `ab` against this loop, sleeping off, 8 rounds: a pile of 600 octagons ran 0.915
+// of the instructions in 1.011 of the time, and a rain of 600 triangles, pentagons and hexagons
+// took 1.25 times as long to collide (step 1.087): the copies cost what the lanes save.
 float separation_along(FxVec2f normal, FxVec2f origin, const PolygonView& other) {
   float deepest = std::numeric_limits<float>::max();
   for (int j = 0; j < other.count; ++j) {
