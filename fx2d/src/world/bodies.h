@@ -59,6 +59,9 @@ struct BodySim {
   // beyond which it is swept (infinite for a body that never is: a kinematic one).
   float reach = 0.0f;
   float fast_motion = 0.0f;
+  // The radius of the circle about the centre of mass that holds the shape: the narrow phase's
+  // test of pairs apart (narrow_phase.cpp) reads it with the pose, rather than the record's shape.
+  float enclosing_radius = 0.0f;
 };
 
 // What a removed entity's handle keeps of its body.

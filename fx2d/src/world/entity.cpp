@@ -100,6 +100,7 @@ std::shared_ptr<FxEntity> World::create_entity(const FxEntityDef& def) {
   }
   def.shape.compute_aabb(FxTransform{sim.origin, sim.rotation}, sim.aabb);
   set_continuous_extents(sim, def.type, def.shape);
+  sim.enclosing_radius = def.shape.extent() + distance(def.shape.centroid(), sim.local_center);
 
   broad_phase_.add_body(record, sim.aabb, index);
   record.moved = true;
@@ -121,7 +122,7 @@ void World::reserve_scratch() {
   sleep_.reserve(n);
   continuous_.reserve(n);
   contacts_.slots.reserve(4 * n);
-  narrow_phase_.reserve(4 * n);
+  narrow_phase_.reserve(n, 4 * n);
 }
 
 std::uint32_t World::index_of(const FxEntity& entity) const {
