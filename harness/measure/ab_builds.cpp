@@ -13,7 +13,6 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
-#include <sstream>
 #include <thread>
 #include <vector>
 
@@ -70,13 +69,6 @@ bool run_logged(const std::vector<std::string>& argv, const fs::path& log) {
 }
 
 // --- what a build is made of ----------------------------------------------------------------------
-
-std::vector<std::string> split_words(const std::string& text) {
-  std::istringstream words(text);
-  std::vector<std::string> split;
-  for (std::string word; words >> word;) split.push_back(word);
-  return split;
-}
 
 // The arguments this binary was configured with that decide how Fx2D is compiled, '|'-separated.
 std::vector<std::string> same_flags_arguments() {
@@ -254,6 +246,38 @@ PluginBuild built_revision(const ResolvedBuild& build, const std::vector<std::st
 
 }  // namespace
 
+std::vector<std::string> cmake_words(const std::string& option, const std::string& text) {
+  std::vector<std::string> words;
+  std::string word;
+  bool in_word = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == ' ' || c == '\t' || c == '\n') {
+      if (in_word) words.push_back(word);
+      word.clear();
+      in_word = false;
+      continue;
+    }
+    in_word = true;
+    if (c != '\'' && c != '"') {
+      word += c;
+      continue;
+    }
+    const std::size_t opened = i;
+    for (++i; i < text.size() && text[i] != c; ++i) {
+      // Within double quotes a backslash keeps the quote or backslash after it.
+      if (c == '"' && text[i] == '\\' && i + 1 < text.size() && (text[i + 1] == '"' || text[i + 1] == '\\'))
+        ++i;
+      word += text[i];
+    }
+    if (i == text.size())
+      throw InputError(option + "-cmake: the quote at character " + std::to_string(opened + 1) + " of `" +
+                       text + "` is never closed; expected a matching " + std::string(1, c));
+  }
+  if (in_word) words.push_back(word);
+  return words;
+}
+
 std::string ab_cache_directory() {
   const char* xdg = std::getenv("XDG_CACHE_HOME");
   const char* home = std::getenv("HOME");
@@ -299,8 +323,9 @@ ResolvedBuild resolve_plugin_build(const std::string& option, const std::string&
                                    const std::string& source) {
   ResolvedBuild build{option, spec, BuildKind::plugin_file, spec, {}, cmake_args, {}};
   const bool is_built_in = spec == built_in_word;
+  const bool has_cmake_args = !cmake_words(option, cmake_args).empty();
   if (is_built_in || (spec != worktree_word && fs::exists(spec))) {
-    if (!split_words(cmake_args).empty())
+    if (has_cmake_args)
       throw InputError(option + "-cmake: applies to a git revision or worktree, not to the " +
                        (is_built_in ? std::string("built-in engine") : "prebuilt plugin " + spec));
     if (is_built_in) build.kind = BuildKind::built_in;
@@ -328,7 +353,7 @@ ResolvedBuild resolve_plugin_build(const std::string& option, const std::string&
 PluginBuild prepare_plugin_build(const ResolvedBuild& build) {
   if (build.kind == BuildKind::plugin_file) return prebuilt(build.option, build.spec);
   if (build.kind == BuildKind::built_in) return {linked_fx2d_plugin(), built_in_word, {}};
-  const std::vector<std::string> extra_args = split_words(build.cmake_args);
+  const std::vector<std::string> extra_args = cmake_words(build.option, build.cmake_args);
   std::vector<std::string> all_args = same_flags_arguments();
   all_args.insert(all_args.end(), extra_args.begin(), extra_args.end());
   if (build.kind == BuildKind::worktree) return built_worktree(build, all_args, extra_args);

@@ -45,12 +45,18 @@ struct ResolvedBuild {
   BuildKind kind = BuildKind::plugin_file;
   std::string path;        // plugin_file: the file or build directory; otherwise the repository's top level
   std::string sha;         // revision: the full commit
-  std::string cmake_args;  // the user's extra CMake arguments, whitespace-separated
+  std::string cmake_args;  // the user's extra CMake arguments, as typed (cmake_words)
   std::string source_tree;  // revision, worktree: the tree whose harness/plugin builds it
 };
 
+// The words of extra CMake arguments `text`, given with `option` (e.g. "--a" for --a-cmake), as a
+// shell splits them: whitespace separates words, single quotes keep what they hold as it is, double
+// quotes too but for a backslash before a double quote or a backslash. So one argument may hold
+// spaces: "-DCMAKE_CXX_FLAGS='-O2 -g'". Throws InputError, one line, on a quote never closed.
+std::vector<std::string> cmake_words(const std::string& option, const std::string& text);
+
 // Resolves `spec`, given as `option` (e.g. "--a"), with extra CMake arguments `cmake_args`
-// (whitespace-separated; only for a revision or `worktree`) and `source` (--source, "" when not
+// (cmake_words; only for a revision or `worktree`) and `source` (--source, "" when not
 // given: plugin_source_tree). Builds nothing. Throws InputError.
 ResolvedBuild resolve_plugin_build(const std::string& option, const std::string& spec, const std::string& cmake_args,
                                    const std::string& source);

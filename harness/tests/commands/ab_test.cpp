@@ -60,6 +60,24 @@ TEST(AbRounds, AlternateABBA) {
   EXPECT_EQ(order, "ABBAABBAABBA");
 }
 
+// --a-cmake and --b-cmake split as a shell would, so that one CMake argument may hold spaces.
+TEST(AbCmakeWords, SplitAsAShellSoAQuotedArgumentKeepsItsSpaces) {
+  using Words = std::vector<std::string>;
+  EXPECT_EQ(cmake_words("--b", ""), Words{});
+  EXPECT_EQ(cmake_words("--b", " -DFX2D_NATIVE=ON \t-DFX2D_PROFILE=OFF "),
+            (Words{"-DFX2D_NATIVE=ON", "-DFX2D_PROFILE=OFF"}));
+  EXPECT_EQ(cmake_words("--b", "-DCMAKE_CXX_FLAGS='-falign-functions=64 -falign-loops=64' -DX=1"),
+            (Words{"-DCMAKE_CXX_FLAGS=-falign-functions=64 -falign-loops=64", "-DX=1"}));
+  EXPECT_EQ(cmake_words("--b", "\"-DA=say \\\"hi\\\" \\\\ 'x'\" ''"), (Words{"-DA=say \"hi\" \\ 'x'", ""}));
+  try {
+    cmake_words("--a", "-DX='a b");
+    ADD_FAILURE() << "an unclosed quote was accepted";
+  } catch (const InputError& error) {
+    EXPECT_STREQ(error.what(),
+                 "--a-cmake: the quote at character 5 of `-DX='a b` is never closed; expected a matching '");
+  }
+}
+
 TEST(AbVariants, SplitOnlyAFileOfAAndBRunsIntoTwoResultSets) {
   ResultSet file;
   file.provenance.hostname = "machine";
@@ -233,17 +251,21 @@ TEST_F(AbTest, EveryMisuseIsOneLineAndExitCodeTwo) {
   const std::string scene = std::string(FX2D_SOURCE_DIR) + "/scenes/pile.json";
   const std::string plugin = FX2D_BENCH_PLUGIN;
   const std::vector<std::pair<std::vector<std::string>, std::string>> misuses = {
-      {{"ab", "--a", scene, "--b", plugin}, "--a: "},                                       // a scene is not a plugin
-      {{"ab", "--a", plugin}, "--b is required"},                                          // missing argument
-      {{"ab", "--a", plugin, "--b", plugin, "--json", "--markdown"}, "excludes"},           // conflicting options
+      {{"ab", "--a", scene, "--b", plugin}, "--a: "},                              // a scene is not a plugin
+      {{"ab", "--a", plugin}, "--b is required"},                                  // missing argument
+      {{"ab", "--a", plugin, "--b", plugin, "--json", "--markdown"}, "excludes"},  // conflicting options
       {{"ab", "--a", plugin, "--b", plugin, "--b-cmake", "-DFX2D_NATIVE=ON"}, "--b-cmake: applies to"},
+      {{"ab", "--a", plugin, "--b", "worktree", "--b-cmake", "-DX=\"a b"},
+       "--b-cmake: the quote at character 5"},
       {{"ab", "--a", "built-in", "--b", plugin, "--a-cmake", "-DFX2D_NATIVE=ON"},
        "--a-cmake: applies to a git revision or worktree, not to the built-in engine"},
-      {{"ab", "--a", plugin, "--b", plugin, "--rounds", "3"}, "--rounds: expected an integer in [6, 100000]; 3 rounds:"},
-      {{"ab", "--a", plugin, "--b", plugin, "--rounds", "many"}, "--rounds: expected an integer in [6, 100000], got many"},
+      {{"ab", "--a", plugin, "--b", plugin, "--rounds", "3"},
+       "--rounds: expected an integer in [6, 100000]; 3 rounds:"},
+      {{"ab", "--a", plugin, "--b", plugin, "--rounds", "many"},
+       "--rounds: expected an integer in [6, 100000], got many"},
       {{"ab", "--a", plugin, "--b", plugin, "--counter", "cycles"}, "--counter"},
       {{"ab", "--a", plugin, "--b", plugin, "--force"}, "--force requires --out"},
-      {{"ab", "--a", plugin, "--b", plugin, "--rounds"}, "--rounds"},                      // missing value
+      {{"ab", "--a", plugin, "--b", plugin, "--rounds"}, "--rounds"},  // missing value
   };
   for (const auto& [arguments, expected] : misuses) {
     const Ending ending = run_bench(arguments, directory_);
