@@ -189,6 +189,11 @@ class ContactBatches {
   // (ContactSolver::project_positions) would push at `states`, or the constraint count: found
   // batch by batch in lanes, measured as that pass measures, to the bit.
   int first_projection_overlap(std::span<const FxBodyState> states, float slop);
+  // Whether constraint `constraint` had such a point when first_projection_overlap() last measured.
+  bool overlapped_at_start(int constraint) const {
+    const int lane = lanes_[constraint];
+    return ((projected_lanes_[lane / lane_count] >> (lane % lane_count)) & 1u) != 0;
+  }
   // The batch and the lane that hold constraint `constraint` (an index into pack()'s constraints).
   ContactBatch& batch_holding(int constraint) { return batches_[lanes_[constraint] / lane_count]; }
   const ContactBatch& batch_holding(int constraint) const { return batches_[lanes_[constraint] / lane_count]; }

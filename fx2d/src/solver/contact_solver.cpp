@@ -77,9 +77,10 @@ bool is_active(const CachedContact& contact, const Bodies& bodies) {
 
 }  // namespace
 
-void ContactSolver::reserve(std::size_t constraint_count) {
+void ContactSolver::reserve(std::size_t constraint_count, std::size_t body_count) {
   sources_.reserve(constraint_count);
   bouncing_.reserve(constraint_count);
+  projected_.reserve(body_count);
 }
 
 void ContactSolver::prepare(const ContactCache& contacts, const Bodies& bodies) {
@@ -121,12 +122,19 @@ void ContactSolver::apply_restitution(ContactBatches& batches, std::span<FxBodyS
 }
 
 void ContactSolver::project_positions(ContactBatches& batches, std::span<FxBodyState> states,
-                                      float linear_slop) const {
+                                      float linear_slop) {
   // Contact by contact, each seeing what the ones before moved. Up to the first contact that
   // overlaps deeper than the slop at the start, none moves anything: the pass starts there, and
-  // a step that left no such overlap, as most do, skips it. The same bits.
-  for (int i = batches.first_projection_overlap(states, linear_slop); i < static_cast<int>(sources_.size()); ++i) {
+  // a step that left no such overlap, as most do, skips it. After it, a contact that was no deeper
+  // than the slop at the start, and neither of whose bodies a contact before it has moved, measures
+  // just that again and moves nothing: it is passed over. The same bits.
+  const int first = batches.first_projection_overlap(states, linear_slop);
+  if (first == static_cast<int>(sources_.size())) return;
+  projected_.assign(states.size(), 0);
+  for (int i = first; i < static_cast<int>(sources_.size()); ++i) {
     const ConstraintSource& source = sources_[i];
+    if (projected_[source.body_a] == 0 && projected_[source.body_b] == 0 && !batches.overlapped_at_start(i))
+      continue;
     const LaneConstraint c{batches.batch_holding(i), batches.lane_holding(i)};
     FxBodyState& a = states[source.body_a];
     FxBodyState& b = states[source.body_b];
@@ -142,6 +150,10 @@ void ContactSolver::project_positions(ContactBatches& batches, std::span<FxBodyS
       a.delta_rotation = integrate_rotation(a.delta_rotation, -c.inv_inertia_a() * cross(moved_a, impulse));
       b.delta_position += c.inv_mass_b() * impulse;
       b.delta_rotation = integrate_rotation(b.delta_rotation, c.inv_inertia_b() * cross(moved_b, impulse));
+      // Only a movable body moves (a static one's inverse masses are zero), and one that does not
+      // leaves its other contacts as they were.
+      projected_[source.body_a] |= static_cast<std::uint8_t>(a.flags & movable_flag);
+      projected_[source.body_b] |= static_cast<std::uint8_t>(b.flags & movable_flag);
     }
   }
 }

@@ -61,8 +61,9 @@ inline constexpr std::uint32_t min_parallel_constraints = 128;
 
 class ContactSolver {
  public:
-  // Grows storage for this many constraints, so prepare() does not allocate up to there.
-  void reserve(std::size_t constraint_count);
+  // Grows storage for this many constraints and bodies, so prepare() and project_positions() do
+  // not allocate up to there.
+  void reserve(std::size_t constraint_count, std::size_t body_count);
   // Lists one constraint per touching contact that has an awake body, in contact cache order.
   void prepare(const ContactCache& contacts, const Bodies& bodies);
   // Lists none: a world asleep.
@@ -70,7 +71,7 @@ class ContactSolver {
   // After the substeps: bounce where an approaching point pushed and restitution is > 0.
   void apply_restitution(ContactBatches& batches, std::span<FxBodyState> states, float threshold) const;
   // Non-linear Gauss-Seidel projection of overlaps deeper than the slop, on positions only.
-  void project_positions(ContactBatches& batches, std::span<FxBodyState> states, float linear_slop) const;
+  void project_positions(ContactBatches& batches, std::span<FxBodyState> states, float linear_slop);
   void store_impulses(const ContactBatches& batches, ContactCache& cache) const;
 
   std::span<const ConstraintSource> sources() const { return sources_; }
@@ -78,6 +79,7 @@ class ContactSolver {
  private:
   std::vector<ConstraintSource> sources_;
   std::vector<int> bouncing_;  // the constraints whose restitution is > 0, in order
+  std::vector<std::uint8_t> projected_;  // per body: 1 once project_positions() has moved it
 };
 
 }  // namespace fx2d::detail

@@ -99,7 +99,7 @@ PassCounts passes_of_moving_step(const StepContext& step, SolverData& solver, co
 void SolverData::reserve(std::size_t bodies) {
   states.reserve(bodies + 1);
   integration.reserve(bodies);
-  contact_solver.reserve(4 * bodies);
+  contact_solver.reserve(4 * bodies, bodies + 1);
   contact_graph.reserve(4 * bodies, bodies + 1);
   contact_batches.reserve(4 * bodies);
   support_chains.reserve(bodies + 1, 4 * bodies);
