@@ -22,7 +22,12 @@ constexpr float proxy_margin = 0.1f;
 // proxies on settling_boxes 3000); four cost some extra narrow-phase pairs and save more. Against
 // four (`ab`, sleeping off): two took settling_boxes 3000's step to 1.030 (broad phase 3.2 times
 // as long) and pile 1200's penetration from 8.3 to 13.4 mm; eight took settling_boxes 3000's to
-// 1.020 (broad phase 0.53, collide 1.31).
+// 1.020 (broad phase 0.53, collide 1.31). Re-measured once pairs apart cost less to collide (the
+// narrow phase's surely_apart), eight still did not pay: settling_boxes 3000 0.979 [0.963, 1.000],
+// 800 1.018, pile 800 0.969 [0.953, 1.010], and less accurate. Nor did sweeping a dynamic body's
+// box by gravity's fall over those four steps too, which a falling body leaves a step later:
+// settling_boxes 3000 0.993 [0.964, 1.003] (broad phase 0.90), 800 0.990, pile 800 1.002, and
+// settling_boxes 800 penetrated 6.13 mm instead of 5.36 (pairs found in another order).
 constexpr float proxy_sweep_steps = 4.0f;
 // When more than one proxy in this many moves in a step, their boxes are set in place and the
 // tree refitted, or rebuilt if that leaves it this much worse than when last rebuilt
