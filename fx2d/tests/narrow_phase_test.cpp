@@ -118,5 +118,19 @@ TEST(NarrowPhase, ABodysReachIsItsEnclosingCircleAndItsFastestPoint) {
   EXPECT_FALSE(surely_apart(here, near, 1.0f / 60.0f));
 }
 
+// A pair keeps its manifold's features while it moves less than a fiftieth of its shapes' shortest
+// edge, and 4 mm: a card standing on its 2 cm end has its lever arm off by a tenth of a millimetre
+// at most, not the 2 mm that a 4 mm allowance would leave it.
+TEST(NarrowPhase, AManifoldIsReusedOverAFiftiethOfTheShortestEdgeAndFourMillimetresAtMost) {
+  const FxShape ground = FxShape::box(60.0f, 0.5f);
+  const FxShape box = FxShape::box(0.5f, 0.5f);
+  const FxShape card = FxShape::box(0.01f, 0.4f);
+  const FxShape small = FxShape::box(0.05f, 0.05f);
+  EXPECT_FLOAT_EQ(manifold_reuse_distance(box, ground), 0.004f);
+  EXPECT_FLOAT_EQ(manifold_reuse_distance(ground, card), 0.02f * 0.02f);
+  EXPECT_FLOAT_EQ(manifold_reuse_distance(small, box), 0.02f * 0.1f);
+  EXPECT_FLOAT_EQ(manifold_reuse_distance(FxShape::circle(0.01f), small), 0.02f * 0.1f);
+}
+
 }  // namespace
 }  // namespace fx2d::detail

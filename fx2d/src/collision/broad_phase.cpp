@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "collision/narrow_phase.h"
 #include "world/step_context.h"
 
 namespace fx2d::detail {
@@ -73,6 +74,7 @@ void create_contact(ContactCache& contacts, std::vector<BodyRecord>& records, st
   contact.restitution = ma.restitution > mb.restitution ? ma.restitution : mb.restitution;
   contact.round_a = records[a].shape.type() == FxShapeType::circle;
   contact.round_b = records[b].shape.type() == FxShapeType::circle;
+  contact.reuse_distance = manifold_reuse_distance(records[a].shape, records[b].shape);
 }
 
 // The bodies that already share a contact with one body: its contact list read once, into an

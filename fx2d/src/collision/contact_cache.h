@@ -46,6 +46,9 @@ struct CachedContact {
   float static_friction = 0.0f;
   float dynamic_friction = 0.0f;
   float restitution = 0.0f;
+  // How far B may move in A's frame after a full collision before the next one: resolved once per
+  // pair (manifold_reuse_distance, narrow_phase.h), read with the frame.
+  float reuse_distance = 0.0f;
   ManifoldFrame frame;
 };
 
