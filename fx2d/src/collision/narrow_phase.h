@@ -29,7 +29,7 @@ struct BodyReach {
 // their separations measured. A point the full collision left out was at least 2 cm apart, so none
 // comes into contact unseen. A kept point's place along its face is stale by at most this
 // distance, and the lever arm of a thin body standing on its end errs by half of it: so it is a
-// fiftieth of the shorter shape's shortest edge, and at most 4 mm. Resolved once, as the pair is made.
+// fiftieth of the shorter shape's shortest edge, and at most 8 mm. Resolved once, as the pair is made.
 float manifold_reuse_distance(const FxShape& a, const FxShape& b);
 
 // A body's BodyReach at its sim's pose and velocities.
