@@ -209,7 +209,8 @@ PluginBuild built_worktree(const ResolvedBuild& build, const std::vector<std::st
   const std::string head = output_of({"git", "-C", checkout.string(), "rev-parse", "--short", "HEAD"}).value_or("unknown");
   std::vector<std::string> key = cmake_args;
   key.emplace_back(checkout.string());
-  const std::string description = joined({"worktree " + checkout.string() + " (of " + head + ")", joined(extra_args)});
+  const std::string description =
+      joined({"worktree " + checkout.string() + " (of " + head + ")", cmake_text(extra_args)});
   const fs::path directory = fs::path(ab_cache_directory()) / ("worktree-" + build_key(key, project));
   BuildRequest request{build.option, worktree_word, checkout, checkout, project, directory, description, cmake_args};
   fs::create_directories(request.directory);
@@ -224,11 +225,11 @@ PluginBuild built_revision(const ResolvedBuild& build, const std::vector<std::st
   const std::string& spec = build.spec;
   const std::string& sha = build.sha;
   const std::string short_sha = sha.substr(0, 7);
-  const std::string description =
-      joined({spec.starts_with(short_sha) ? short_sha : short_sha + " (" + spec + ")", joined(extra_args)});
+  const std::string description = joined(
+      {spec.starts_with(short_sha) ? short_sha : short_sha + " (" + spec + ")", cmake_text(extra_args)});
   const fs::path project = plugin_project(build.source_tree);
   const fs::path directory = fs::path(ab_cache_directory()) / (sha + "-" + build_key(cmake_args, project));
-  const std::string plugin_description = joined({short_sha, joined(extra_args)});
+  const std::string plugin_description = joined({short_sha, cmake_text(extra_args)});
   BuildRequest request{option, spec, build.path, directory / "src", project, directory, plugin_description, cmake_args};
   const std::string side = side_of(option);
   if (fs::exists(directory / "complete") && fs::exists(built_plugin(request))) {
@@ -276,6 +277,15 @@ std::vector<std::string> cmake_words(const std::string& option, const std::strin
   }
   if (in_word) words.push_back(word);
   return words;
+}
+
+std::string cmake_text(const std::vector<std::string>& words) {
+  std::string text;
+  for (const std::string& word : words) {
+    const bool spaced = word.find_first_of(" \t\n") != std::string::npos;
+    text += (text.empty() ? "" : " ") + (spaced ? "'" + word + "'" : word);
+  }
+  return text;
 }
 
 std::string ab_cache_directory() {

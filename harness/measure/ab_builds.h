@@ -55,6 +55,10 @@ struct ResolvedBuild {
 // spaces: "-DCMAKE_CXX_FLAGS='-O2 -g'". Throws InputError, one line, on a quote never closed.
 std::vector<std::string> cmake_words(const std::string& option, const std::string& text);
 
+// `words` as a build's description shows them: a word that holds a space in single quotes, so that
+// the description reads as the arguments it was given.
+std::string cmake_text(const std::vector<std::string>& words);
+
 // Resolves `spec`, given as `option` (e.g. "--a"), with extra CMake arguments `cmake_args`
 // (cmake_words; only for a revision or `worktree`) and `source` (--source, "" when not
 // given: plugin_source_tree). Builds nothing. Throws InputError.

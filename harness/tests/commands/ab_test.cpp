@@ -69,6 +69,8 @@ TEST(AbCmakeWords, SplitAsAShellSoAQuotedArgumentKeepsItsSpaces) {
   EXPECT_EQ(cmake_words("--b", "-DCMAKE_CXX_FLAGS='-falign-functions=64 -falign-loops=64' -DX=1"),
             (Words{"-DCMAKE_CXX_FLAGS=-falign-functions=64 -falign-loops=64", "-DX=1"}));
   EXPECT_EQ(cmake_words("--b", "\"-DA=say \\\"hi\\\" \\\\ 'x'\" ''"), (Words{"-DA=say \"hi\" \\ 'x'", ""}));
+  EXPECT_EQ(cmake_text(cmake_words("--b", "-DX=1  -DCMAKE_CXX_FLAGS='-O2 -g'")),
+            "-DX=1 '-DCMAKE_CXX_FLAGS=-O2 -g'");
   try {
     cmake_words("--a", "-DX='a b");
     ADD_FAILURE() << "an unclosed quote was accepted";
