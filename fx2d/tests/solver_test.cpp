@@ -653,6 +653,22 @@ TEST(ShallowSchedule, AColumnAsTallAsTheDepthTakesItAndOneBoxTallerDoesNot) {
   }
 }
 
+// A step whose contacts are those of the step before reuses its answer about the chains; a box set
+// on top of a column as tall as the depth makes new contacts, and the taller column takes the full
+// passes from the step its box first touches.
+TEST(ShallowSchedule, AColumnGrownPastTheDepthTakesTheFullPassesOnceItsNewBoxTouches) {
+  const int depth = FxSceneSettings{}.shallow_schedule_depth;
+  FxScene scene(shallow_only());
+  add_ground(scene);
+  const std::vector<std::shared_ptr<FxEntity>> column = add_column(scene, depth);
+  ASSERT_EQ(full_steps_of(scene, 30), 0);
+  const float top = column.back()->position().y + 0.5f;
+  add_box(scene, {0.0f, top + 0.5f});
+  // The new box's pair is found and touches within two steps; from then on every step is full.
+  full_steps_of(scene, 2);
+  EXPECT_EQ(full_steps_of(scene, 30), 30);
+}
+
 TEST(ShallowSchedule, AtDepthZeroABoxOnTheGroundIsTooDeep) {
   FxSceneSettings settings = shallow_only();
   settings.shallow_schedule_depth = 0;

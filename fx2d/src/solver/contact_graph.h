@@ -29,6 +29,8 @@ class ContactGraph {
   // nothing else, so when every constraint has the bodies, point count and movability it had at
   // the last build, that build's colours stand (the usual step of a scene at rest).
   void build(std::span<const ConstraintSource> constraints, std::span<const FxBodyState> states);
+  // True when every constraint has the bodies, point count and movability it had at the last build.
+  bool same_as_last(std::span<const ConstraintSource> constraints, std::span<const FxBodyState> states) const;
 
   // Grows storage for this many constraints and bodies, so build() does not allocate up to there.
   void reserve(std::size_t constraints, std::size_t bodies);
@@ -48,7 +50,6 @@ class ContactGraph {
     std::uint32_t body_b = 0;
     std::uint32_t shape = 0;
   };
-  bool same_as_last(std::span<const ConstraintSource> constraints, std::span<const FxBodyState> states) const;
   void colour(std::span<const ConstraintSource> constraints, std::span<const FxBodyState> states);
 
   std::vector<Coloured> coloured_;  // per constraint of the last build

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "world/step_context.h"
 
@@ -74,18 +75,33 @@ bool keeps_rest(const BodyRecord& record, const BodySim& sim, const FxSceneSetti
          w * w < angular * angular;
 }
 
+// Whether no movable body stands on a chain of more than `depth` bodies. The chains depend only on
+// the links and which bodies are movable, so when the contacts have the bodies, point counts and
+// movability they had at the last step (ContactGraph::same_as_last), and no joint links anything,
+// the last step's answer to the same question stands; one pass over the contacts instead of a
+// breadth-first search (the same bits).
+bool chains_within(SolverData& solver, const SolverData::ChainsFound& last,
+                   std::span<const ConstraintSource> sources, const Constraints& joints, int depth) {
+  const bool same =
+      last.depth == depth && joints.empty() && solver.contact_graph.same_as_last(sources, solver.states);
+  const bool within =
+      same ? last.within : solver.support_chains.all_within(sources, joints, solver.states, depth);
+  solver.chains_found = {depth, within};
+  return within;
+}
+
 // The passes of a step not at rest: the shallow schedule's, the impact schedule's or the settings'
 // (FxSceneSettings). The closing speed first, as it costs one read per contact and rules out a
 // shallow step of impacts before any chain is followed.
-PassCounts passes_of_moving_step(const StepContext& step, SolverData& solver, const Bodies& bodies,
+PassCounts passes_of_moving_step(const StepContext& step, SolverData& solver,
+                                 const SolverData::ChainsFound& last, const Bodies& bodies,
                                  const ContactCache& contacts, const Constraints& constraints) {
   const FxSceneSettings& settings = step.settings;
   const std::span<const ConstraintSource> sources = solver.contact_solver.sources();
   const Closing closing = closing_speeds(sources, contacts, bodies,
                                          settings.impact_schedule_travel * step.contact.inv_substep_dt);
   if (settings.shallow_schedule && closing.fastest <= settings.shallow_schedule_speed &&
-      solver.support_chains.all_within(sources, constraints, solver.states,
-                                       settings.shallow_schedule_depth)) {
+      chains_within(solver, last, sources, constraints, settings.shallow_schedule_depth)) {
     return light_schedule_passes;
   }
   if (closing.impact) {
@@ -112,6 +128,8 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   // is cleared in one fill, which the compiler turns into wide stores, before the loop that skips
   // the bodies at rest: a sleeping body costs a store and a test here.
   const FxSceneSettings& settings = step.settings;
+  // Good for this step only if this step looks again (chains_within).
+  const SolverData::ChainsFound last_chains = std::exchange(solver.chains_found, {});
   const std::vector<BodyRecord>& records = bodies.records;
   const std::vector<BodySim>& sims = bodies.sims;
   BodyIntegration& integration = solver.integration;
@@ -146,8 +164,8 @@ void prepare_solver(const StepContext& step, SolverData& solver, const Bodies& b
   integration.finish();
   solver.contact_solver.prepare(contacts, bodies);
   solver.at_rest = at_rest;
-  solver.passes =
-      at_rest ? light_schedule_passes : passes_of_moving_step(step, solver, bodies, contacts, constraints);
+  solver.passes = at_rest ? light_schedule_passes
+                          : passes_of_moving_step(step, solver, last_chains, bodies, contacts, constraints);
 }
 
 void colour_and_pack(const StepContext& step, SolverData& solver, const Bodies& bodies, const ContactCache& contacts) {

@@ -33,6 +33,12 @@ struct SolverData {
   ContactBatches contact_batches;
   JointRows joint_rows;               // the user constraints (joints), for the substeps' passes
   SupportChains support_chains;       // prepare_solver's scratch for the shallow schedule
+  // What the last step found of its support chains, for a step whose contacts are the same: the
+  // depth it asked about (-1 when it did not look) and whether every chain was within it.
+  struct ChainsFound {
+    int depth = -1;
+    bool within = false;
+  } chains_found;
   PassCounts passes;                  // chosen by prepare_solver
   // Whether every awake body has rested (FxSceneSettings::rest_schedule): set by prepare_solver.
   bool at_rest = false;
