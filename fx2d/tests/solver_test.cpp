@@ -732,6 +732,29 @@ TEST(ShallowSchedule, JointsAreLinksOfAChain) {
   }
 }
 
+// A column two boxes deeper than the depth, its top pinned to a static anchor, stands on chains of
+// half its height; unpinned, on one chain of all of it, with the same contacts: the answer found
+// through the joint is not reused once the joint is gone.
+TEST(ShallowSchedule, AColumnUnpinnedWithTheSameContactsTakesTheFullPassesAgain) {
+  const int depth = FxSceneSettings{}.shallow_schedule_depth;
+  FxSceneSettings settings = shallow_only();
+  settings.gravity = {};  // standing still: every contact stays as it is
+  FxScene scene(settings);
+  add_ground(scene);
+  const std::vector<std::shared_ptr<FxEntity>> column = add_column(scene, depth + 2);
+  FxEntityDef anchor;
+  anchor.type = FxBodyType::static_body;
+  anchor.shape = FxShape::circle(0.1f);
+  const float top = column.back()->position().y + 0.5f;
+  anchor.position = {0.0f, top + 0.1f};
+  const auto pin =
+      std::make_shared<FxRevoluteJoint>(scene.create_entity(anchor), column.back(), FxVec2f{0.0f, top});
+  scene.add_constraint(pin);
+  ASSERT_EQ(full_steps_of(scene, 10), 0);
+  scene.remove_constraint(*pin);
+  EXPECT_EQ(full_steps_of(scene, 10), 10);
+}
+
 TEST(ShallowSchedule, AColumnInFreeFallStandsOnNothing) {
   // Forty boxes touching in a column, falling together: no chain reaches a support, so none counts.
   FxScene scene(shallow_only());

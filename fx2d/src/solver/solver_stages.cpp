@@ -86,7 +86,8 @@ bool chains_within(SolverData& solver, const SolverData::ChainsFound& last,
       last.depth == depth && joints.empty() && solver.contact_graph.same_as_last(sources, solver.states);
   const bool within =
       same ? last.within : solver.support_chains.all_within(sources, joints, solver.states, depth);
-  solver.chains_found = {depth, within};
+  // An answer found through joints is not kept: with them gone, the same contacts may hold deeper chains.
+  if (joints.empty()) solver.chains_found = {depth, within};
   return within;
 }
 
