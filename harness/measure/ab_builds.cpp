@@ -280,12 +280,12 @@ std::vector<std::string> cmake_words(const std::string& option, const std::strin
 }
 
 std::string cmake_text(const std::vector<std::string>& words) {
-  std::string text;
+  std::vector<std::string> shown;
   for (const std::string& word : words) {
-    const bool spaced = word.find_first_of(" \t\n") != std::string::npos;
-    text += (text.empty() ? "" : " ") + (spaced ? "'" + word + "'" : word);
+    const bool quoted = word.empty() || word.find_first_of(" \t\n") != std::string::npos;
+    shown.push_back(quoted ? "'" + word + "'" : word);
   }
-  return text;
+  return joined(shown);
 }
 
 std::string ab_cache_directory() {
@@ -331,11 +331,10 @@ std::string plugin_source_tree(const std::string& source, const std::string& bui
 
 ResolvedBuild resolve_plugin_build(const std::string& option, const std::string& spec, const std::string& cmake_args,
                                    const std::string& source) {
-  ResolvedBuild build{option, spec, BuildKind::plugin_file, spec, {}, cmake_args, {}};
+  ResolvedBuild build{option, spec, BuildKind::plugin_file, spec, {}, cmake_words(option, cmake_args), {}};
   const bool is_built_in = spec == built_in_word;
-  const bool has_cmake_args = !cmake_words(option, cmake_args).empty();
   if (is_built_in || (spec != worktree_word && fs::exists(spec))) {
-    if (has_cmake_args)
+    if (!build.cmake_args.empty())
       throw InputError(option + "-cmake: applies to a git revision or worktree, not to the " +
                        (is_built_in ? std::string("built-in engine") : "prebuilt plugin " + spec));
     if (is_built_in) build.kind = BuildKind::built_in;
@@ -363,11 +362,10 @@ ResolvedBuild resolve_plugin_build(const std::string& option, const std::string&
 PluginBuild prepare_plugin_build(const ResolvedBuild& build) {
   if (build.kind == BuildKind::plugin_file) return prebuilt(build.option, build.spec);
   if (build.kind == BuildKind::built_in) return {linked_fx2d_plugin(), built_in_word, {}};
-  const std::vector<std::string> extra_args = cmake_words(build.option, build.cmake_args);
   std::vector<std::string> all_args = same_flags_arguments();
-  all_args.insert(all_args.end(), extra_args.begin(), extra_args.end());
-  if (build.kind == BuildKind::worktree) return built_worktree(build, all_args, extra_args);
-  return built_revision(build, all_args, extra_args);
+  all_args.insert(all_args.end(), build.cmake_args.begin(), build.cmake_args.end());
+  if (build.kind == BuildKind::worktree) return built_worktree(build, all_args, build.cmake_args);
+  return built_revision(build, all_args, build.cmake_args);
 }
 
 }  // namespace fxbench

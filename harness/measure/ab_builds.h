@@ -45,7 +45,7 @@ struct ResolvedBuild {
   BuildKind kind = BuildKind::plugin_file;
   std::string path;        // plugin_file: the file or build directory; otherwise the repository's top level
   std::string sha;         // revision: the full commit
-  std::string cmake_args;  // the user's extra CMake arguments, as typed (cmake_words)
+  std::vector<std::string> cmake_args;  // the user's extra CMake arguments, split (cmake_words)
   std::string source_tree;  // revision, worktree: the tree whose harness/plugin builds it
 };
 
@@ -55,8 +55,8 @@ struct ResolvedBuild {
 // spaces: "-DCMAKE_CXX_FLAGS='-O2 -g'". Throws InputError, one line, on a quote never closed.
 std::vector<std::string> cmake_words(const std::string& option, const std::string& text);
 
-// `words` as a build's description shows them: a word that holds a space in single quotes, so that
-// the description reads as the arguments it was given.
+// `words` as a build's description shows them: a word that holds a space, or none, in single quotes,
+// so that the description reads as the arguments it was given.
 std::string cmake_text(const std::vector<std::string>& words);
 
 // Resolves `spec`, given as `option` (e.g. "--a"), with extra CMake arguments `cmake_args`

@@ -71,6 +71,7 @@ TEST(AbCmakeWords, SplitAsAShellSoAQuotedArgumentKeepsItsSpaces) {
   EXPECT_EQ(cmake_words("--b", "\"-DA=say \\\"hi\\\" \\\\ 'x'\" ''"), (Words{"-DA=say \"hi\" \\ 'x'", ""}));
   EXPECT_EQ(cmake_text(cmake_words("--b", "-DX=1  -DCMAKE_CXX_FLAGS='-O2 -g'")),
             "-DX=1 '-DCMAKE_CXX_FLAGS=-O2 -g'");
+  EXPECT_EQ(cmake_text(cmake_words("--b", "-DX= ''")), "-DX= ''");
   try {
     cmake_words("--a", "-DX='a b");
     ADD_FAILURE() << "an unclosed quote was accepted";
