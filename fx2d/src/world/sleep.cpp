@@ -64,6 +64,9 @@ void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies
   // The step's contact constraints are the touching contacts with an awake body (prepare_solver),
   // in a compact list: walking it, rather than every cached contact or the awake bodies' contact
   // lists, finds the same islands (each root is its island's lowest index, whatever the order).
+  // The walk is bound by the union-find's own instructions, not by the records it reads: a byte
+  // per body for "awake and dynamic", read per link instead, left the stage at 0.988 [0.981, 0.996]
+  // of its time on settling_boxes 800 (`ab`, sleeping on, 10 rounds), where it takes 5 us a step.
   for_each_link(touching, constraints, [&](std::uint32_t a, std::uint32_t b) {
     if (links_islands(a, b)) unite(island_parent, static_cast<int>(a), static_cast<int>(b));
   });
