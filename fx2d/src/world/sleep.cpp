@@ -1,8 +1,11 @@
 // Sleeping: an island (dynamic bodies connected by touching contacts or constraints) sleeps as a
 // whole once every body in it has rested for time_to_sleep; a body alone in the air never rests.
-// Islands are found afresh, in each step in which some body has rested that long, with a
-// union-find over the packed arrays whose roots are the lowest packed index of each island, so
-// the result depends only on the state, not on history.
+// Such an island is a group of rested bodies joined by links among themselves with no link to an
+// awake body that has not rested: with one, the island holds that body; without, the group is
+// the whole island. So islands are found afresh, in each step in which some body has rested that
+// long, with a union-find over the links between rested bodies alone, whose roots are the lowest
+// packed index of each group, and the groups an unrested body touches stay awake. The result
+// depends only on the state, not on history.
 // A sleeping body remembers its island's root in sleep_island; waking one wakes them all.
 #include "world/sleep.h"
 
@@ -29,9 +32,14 @@ void unite(std::vector<int>& parent, int a, int b) {
 
 }  // namespace
 
+// What a body is to the islands: not in one (static, kinematic or asleep), awake and dynamic but
+// not rested for time_to_sleep, or rested.
+enum RestClass : std::uint8_t { outside, unrested, rested };
+
 void SleepScratch::reserve(std::size_t bodies) {
   island_parent.reserve(bodies);
-  island_min_sleep_time.reserve(bodies);
+  rest_class.reserve(bodies);
+  held_awake.reserve(bodies);
 }
 
 void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies,
@@ -47,39 +55,45 @@ void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies
   });
   if (!any_rested) return;
   std::vector<int>& island_parent = scratch.island_parent;
-  std::vector<float>& island_min_sleep_time = scratch.island_min_sleep_time;
+  std::vector<std::uint8_t>& rest_class = scratch.rest_class;
+  std::vector<std::uint8_t>& held_awake = scratch.held_awake;
   // Only awake dynamic bodies, all of them in `moving`, join islands, so only their entries are
-  // set: a sleeping island costs nothing here.
+  // set beyond the class: a sleeping island costs nothing here.
   island_parent.resize(records.size());
-  island_min_sleep_time.resize(records.size());
+  held_awake.resize(records.size());
+  rest_class.assign(records.size(), outside);
   for (const std::uint32_t i : moving) {
+    if (records[i].type != FxBodyType::dynamic) continue;
+    rest_class[i] = records[i].sleep_time >= settings.time_to_sleep ? rested : unrested;
     island_parent[i] = static_cast<int>(i);
-    island_min_sleep_time[i] = settings.time_to_sleep;
+    held_awake[i] = 0;
   }
 
-  auto links_islands = [&](std::uint32_t a, std::uint32_t b) {
-    return records[a].type == FxBodyType::dynamic && records[b].type == FxBodyType::dynamic &&
-           records[a].awake && records[b].awake;
-  };
   // The step's contact constraints are the touching contacts with an awake body (prepare_solver),
   // in a compact list: walking it, rather than every cached contact or the awake bodies' contact
-  // lists, finds the same islands (each root is its island's lowest index, whatever the order).
-  // The walk is bound by the union-find's own instructions, not by the records it reads: a byte
-  // per body for "awake and dynamic", read per link instead, left the stage at 0.988 [0.981, 0.996]
-  // of its time on settling_boxes 800 (`ab`, sleeping on, 10 rounds), where it takes 5 us a step.
+  // lists, finds the same groups (each root is its group's lowest index, whatever the order). A
+  // link between two unrested bodies decides nothing: a union-find over every link, theirs too,
+  // made the stage take 2.7 times as long on settling_boxes 800 and 3 times on pile 800 (`ab`,
+  // sleeping on), bound by its own instructions rather than by the records it read.
   for_each_link(touching, constraints, [&](std::uint32_t a, std::uint32_t b) {
-    if (links_islands(a, b)) unite(island_parent, static_cast<int>(a), static_cast<int>(b));
+    const int joined = rest_class[a] | rest_class[b] << 2;
+    if (joined == (rested | rested << 2)) {
+      unite(island_parent, static_cast<int>(a), static_cast<int>(b));
+    } else if (joined == (rested | unrested << 2)) {
+      held_awake[a] = 1;
+    } else if (joined == (unrested | rested << 2)) {
+      held_awake[b] = 1;
+    }
   });
 
   for (const std::uint32_t i : moving) {
-    if (records[i].type != FxBodyType::dynamic) continue;
-    float& island_time = island_min_sleep_time[find_root(island_parent, static_cast<int>(i))];
-    island_time = std::min(island_time, records[i].sleep_time);
+    if (rest_class[i] == rested && held_awake[i] != 0)
+      held_awake[find_root(island_parent, static_cast<int>(i))] = 1;
   }
   for (const std::uint32_t i : moving) {
-    if (records[i].type != FxBodyType::dynamic) continue;
+    if (rest_class[i] != rested) continue;
     const int root = find_root(island_parent, static_cast<int>(i));
-    if (island_min_sleep_time[root] < settings.time_to_sleep) continue;
+    if (held_awake[root] != 0) continue;
     BodyRecord& record = records[i];
     record.awake = false;
     --bodies.awake_count;

@@ -15,7 +15,8 @@ struct StepContext;
 // The union-find's scratch, reused every step.
 struct SleepScratch {
   std::vector<int> island_parent;
-  std::vector<float> island_min_sleep_time;
+  std::vector<std::uint8_t> rest_class;  // per body: RestClass
+  std::vector<std::uint8_t> held_awake;  // per body: a root whose rested bodies an unrested one touches
 
   void reserve(std::size_t bodies);
 };
