@@ -76,16 +76,17 @@ void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies
   // made the stage take 2.7 times as long on settling_boxes 800 and 3 times on pile 800 (`ab`,
   // sleeping on), bound by its own instructions rather than by the records it read.
   for_each_link(touching, constraints, [&](std::uint32_t a, std::uint32_t b) {
-    const int joined = rest_class[a] | rest_class[b] << 2;
-    if (joined == (rested | rested << 2)) {
+    const std::uint8_t class_a = rest_class[a], class_b = rest_class[b];
+    if (class_a == rested && class_b == rested) {
       unite(island_parent, static_cast<int>(a), static_cast<int>(b));
-    } else if (joined == (rested | unrested << 2)) {
+    } else if (class_a == rested && class_b == unrested) {
       held_awake[a] = 1;
-    } else if (joined == (unrested | rested << 2)) {
+    } else if (class_b == rested && class_a == unrested) {
       held_awake[b] = 1;
     }
   });
 
+  // A rested body an unrested one touches holds its whole group awake: marked on the group's root.
   for (const std::uint32_t i : moving) {
     if (rest_class[i] == rested && held_awake[i] != 0)
       held_awake[find_root(island_parent, static_cast<int>(i))] = 1;

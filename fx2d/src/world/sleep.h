@@ -16,7 +16,9 @@ struct StepContext;
 struct SleepScratch {
   std::vector<int> island_parent;
   std::vector<std::uint8_t> rest_class;  // per body: RestClass
-  std::vector<std::uint8_t> held_awake;  // per body: a root whose rested bodies an unrested one touches
+  // Per rested body: an unrested body touches it; then, on each group's root, that one of the
+  // group's bodies is so touched, and the group stays awake.
+  std::vector<std::uint8_t> held_awake;
 
   void reserve(std::size_t bodies);
 };
