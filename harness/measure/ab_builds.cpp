@@ -202,15 +202,14 @@ PluginBuild prebuilt(const std::string& option, const std::string& spec) {
   return build;
 }
 
-PluginBuild built_worktree(const ResolvedBuild& build, const std::vector<std::string>& cmake_args,
-                           const std::vector<std::string>& extra_args) {
+PluginBuild built_worktree(const ResolvedBuild& build, const std::vector<std::string>& cmake_args) {
   const fs::path checkout = build.path;
   const fs::path project = plugin_project(build.source_tree);
   const std::string head = output_of({"git", "-C", checkout.string(), "rev-parse", "--short", "HEAD"}).value_or("unknown");
   std::vector<std::string> key = cmake_args;
   key.emplace_back(checkout.string());
   const std::string description =
-      joined({"worktree " + checkout.string() + " (of " + head + ")", cmake_text(extra_args)});
+      joined({"worktree " + checkout.string() + " (of " + head + ")", cmake_text(build.cmake_args)});
   const fs::path directory = fs::path(ab_cache_directory()) / ("worktree-" + build_key(key, project));
   BuildRequest request{build.option, worktree_word, checkout, checkout, project, directory, description, cmake_args};
   fs::create_directories(request.directory);
@@ -219,17 +218,16 @@ PluginBuild built_worktree(const ResolvedBuild& build, const std::vector<std::st
   return loaded(build.option, built_plugin(request), description);
 }
 
-PluginBuild built_revision(const ResolvedBuild& build, const std::vector<std::string>& cmake_args,
-                           const std::vector<std::string>& extra_args) {
+PluginBuild built_revision(const ResolvedBuild& build, const std::vector<std::string>& cmake_args) {
   const std::string& option = build.option;
   const std::string& spec = build.spec;
   const std::string& sha = build.sha;
   const std::string short_sha = sha.substr(0, 7);
   const std::string description = joined(
-      {spec.starts_with(short_sha) ? short_sha : short_sha + " (" + spec + ")", cmake_text(extra_args)});
+      {spec.starts_with(short_sha) ? short_sha : short_sha + " (" + spec + ")", cmake_text(build.cmake_args)});
   const fs::path project = plugin_project(build.source_tree);
   const fs::path directory = fs::path(ab_cache_directory()) / (sha + "-" + build_key(cmake_args, project));
-  const std::string plugin_description = joined({short_sha, cmake_text(extra_args)});
+  const std::string plugin_description = joined({short_sha, cmake_text(build.cmake_args)});
   BuildRequest request{option, spec, build.path, directory / "src", project, directory, plugin_description, cmake_args};
   const std::string side = side_of(option);
   if (fs::exists(directory / "complete") && fs::exists(built_plugin(request))) {
@@ -364,8 +362,8 @@ PluginBuild prepare_plugin_build(const ResolvedBuild& build) {
   if (build.kind == BuildKind::built_in) return {linked_fx2d_plugin(), built_in_word, {}};
   std::vector<std::string> all_args = same_flags_arguments();
   all_args.insert(all_args.end(), build.cmake_args.begin(), build.cmake_args.end());
-  if (build.kind == BuildKind::worktree) return built_worktree(build, all_args, build.cmake_args);
-  return built_revision(build, all_args, build.cmake_args);
+  if (build.kind == BuildKind::worktree) return built_worktree(build, all_args);
+  return built_revision(build, all_args);
 }
 
 }  // namespace fxbench

@@ -30,11 +30,17 @@ void unite(std::vector<int>& parent, int a, int b) {
   if (ra < rb) parent[rb] = ra; else parent[ra] = rb;
 }
 
-}  // namespace
-
 // What a body is to the islands: not in one (static, kinematic or asleep), awake and dynamic but
 // not rested for time_to_sleep, or rested.
 enum RestClass : std::uint8_t { outside, unrested, rested };
+
+// The class of an awake body that moves (one of the stage's `moving`).
+RestClass rest_class_of(const BodyRecord& record, float time_to_sleep) {
+  if (record.type != FxBodyType::dynamic) return outside;
+  return record.sleep_time >= time_to_sleep ? rested : unrested;
+}
+
+}  // namespace
 
 void SleepScratch::reserve(std::size_t bodies) {
   island_parent.reserve(bodies);
@@ -51,7 +57,7 @@ void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies
   // An island sleeps once every body in it has rested time_to_sleep: while no body has, none can,
   // and the islands are not worth finding. So it is in most steps of a scene still settling.
   const bool any_rested = std::any_of(moving.begin(), moving.end(), [&](std::uint32_t i) {
-    return records[i].type == FxBodyType::dynamic && records[i].sleep_time >= settings.time_to_sleep;
+    return rest_class_of(records[i], settings.time_to_sleep) == rested;
   });
   if (!any_rested) return;
   std::vector<int>& island_parent = scratch.island_parent;
@@ -63,8 +69,8 @@ void update_sleep(const StepContext& step, SleepScratch& scratch, Bodies& bodies
   held_awake.resize(records.size());
   rest_class.assign(records.size(), outside);
   for (const std::uint32_t i : moving) {
-    if (records[i].type != FxBodyType::dynamic) continue;
-    rest_class[i] = records[i].sleep_time >= settings.time_to_sleep ? rested : unrested;
+    rest_class[i] = rest_class_of(records[i], settings.time_to_sleep);
+    if (rest_class[i] == outside) continue;
     island_parent[i] = static_cast<int>(i);
     held_awake[i] = 0;
   }
