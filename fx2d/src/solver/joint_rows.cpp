@@ -7,6 +7,7 @@ void JointRows::prepare(const Constraints& constraints, const Bodies& bodies, Fx
                         std::span<const FxBodyState> states) {
   rows_.clear();
   owners_.clear();
+  unpacked_.clear();
   context_ = &context;
   params_ = {context.softness, context.max_linear_speed, context.max_angular_speed};
   for (const auto& constraint : constraints) {
@@ -46,15 +47,18 @@ void JointRows::prepare(const Constraints& constraints, const Bodies& bodies, Fx
   packed_.assign(rows_.size(), 0);
   pins_.pack(rows_, states, padding_state, packed_);
   rods_.pack(rows_, states, padding_state, packed_);
+  for (std::size_t i = 0; i < rows_.size(); ++i) {
+    if (!packed_[i]) unpacked_.push_back(static_cast<std::uint32_t>(i));
+  }
 }
 
-// Invariant of both loops: rows_ and owners_ are in the constraints' order, and a row's state
-// indices hold for the whole step (no body is added or removed within it).
+// Invariant of both loops: unpacked_ is ascending, so the rows the batches leave run in the
+// constraints' order, and a row's state indices hold for the whole step (no body is added or
+// removed within it).
 void JointRows::warm_start(std::span<FxBodyState> states, bool scalar) {
   pins_.warm_start(states, scalar);
   rods_.warm_start(states, scalar);
-  for (std::size_t i = 0; i < rows_.size(); ++i) {
-    if (packed_[i]) continue;
+  for (const std::uint32_t i : unpacked_) {
     Row& row = rows_[i];
     switch (row.kind) {
       case Kind::distance_joint: {
@@ -77,8 +81,7 @@ void JointRows::warm_start(std::span<FxBodyState> states, bool scalar) {
 void JointRows::evaluate(std::span<FxBodyState> states, bool use_bias, bool scalar) {
   pins_.solve(states, params_, use_bias, scalar);
   rods_.solve(states, params_, use_bias, scalar);
-  for (std::size_t i = 0; i < rows_.size(); ++i) {
-    if (packed_[i]) continue;
+  for (const std::uint32_t i : unpacked_) {
     Row& row = rows_[i];
     switch (row.kind) {
       case Kind::distance_joint: {
