@@ -41,7 +41,10 @@ constexpr float refit_growth_allowed = 1.25f;
 // the new pairs (find_pairs_at_once), on one thread. Against a query per moved body, the mean
 // step took 0.97-0.98 on settling_boxes 3000 and 200 and 0.99-1.00 on the piles; with the walk
 // from one in 16, 2 and 4, settling_boxes 3000 took 1.12, 0.98 and 0.98 (it opens the pairs of
-// bodies that did not move too).
+// bodies that did not move too). Nor did a walk that opens no pair of nodes without a moved leaf
+// below one of them (a mark per node, set in one pass first) pay from one in 16 or one in 4 (`ab`,
+// sleeping off, 800 bodies): settling_boxes 1.008 and 0.999, pile 1.006 and 0.997; instructions
+// 1.003 and 1.002, 1.016 and 1.001. Where most bodies move the walk opens what the full walk does.
 constexpr std::uint32_t at_once_moved_in_four = 3;
 // The search for new pairs spreads over the workers in blocks of this many moved bodies, once
 // this many have moved (measured: see fx2d/src/README.md).
