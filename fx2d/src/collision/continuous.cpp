@@ -58,6 +58,7 @@ class FastBodyPass {
         broad_(broad), bullets_(bullets) {}
 
   void advance(std::uint32_t body) {
+    if (!tree().reaches_root(bound_of_swept_box(body))) return;
     const Sweep sweep = sweep_of(bodies_, states_, body, FxVec2f{});
     const Impact impact = first_impact(body, sweep);
     if (impact.fraction < 1.0f) move_to(body, sweep, impact);
@@ -71,6 +72,22 @@ class FastBodyPass {
     std::uint32_t other = 0;
     Sweep other_sweep;
   };
+
+  // A box that holds swept_box() with room to spare, from what the body's state and sim hold: its box
+  // at the step's end grown by twice how far its farthest point moved (step_motion), plus rounding's
+  // share of the coordinates, then by the others' motion. When it misses the root of the tree the
+  // pass sweeps against, so does the query, and the sweep is not worth working out: a body falling
+  // or swinging far from the ground and the walls.
+  FxAABB bound_of_swept_box(std::uint32_t body) const {
+    const BodySim& sim = bodies_.sims[body];
+    const FxAABB& end = sim.aabb;
+    const float scale =
+        std::abs(end.lower.x) + std::abs(end.lower.y) + std::abs(end.upper.x) + std::abs(end.upper.y);
+    const float rounding = 0.01f + 1.0e-5f * scale;
+    return inflate(end, 2.0f * step_motion(states_[body], sim.reach) + rounding + others_motion_);
+  }
+
+  const AabbTree& tree() const { return bullets_ ? broad_.tree : broad_.fixed_tree; }
 
   // The box the body's shape covers at the step's start and at its end, grown by how far the
   // others moved: the tree holds their boxes as of the step's start (the next step's broad phase
@@ -88,10 +105,9 @@ class FastBodyPass {
   // searches only the static and kinematic bodies' tree.
   Impact first_impact(std::uint32_t body, const Sweep& sweep) const {
     const FxShape& shape = bodies_.records[body].shape;
-    const AabbTree& tree = bullets_ ? broad_.tree : broad_.fixed_tree;
     const std::vector<std::uint32_t>& body_of_proxy = bullets_ ? broad_.body_of_proxy : broad_.body_of_fixed_proxy;
     Impact earliest;
-    tree.query(swept_box(body, sweep), [&](int proxy) {
+    tree().query(swept_box(body, sweep), [&](int proxy) {
       const std::uint32_t other = body_of_proxy[proxy];
       const BodyRecord& record = bodies_.records[other];
       if (other == body || !sweeps_against(record, bullets_) || broad_.jointed(body, other)) return true;
