@@ -41,10 +41,6 @@ class AabbTree {
   void refit_or_rebuild(float allowed_growth);
 
   const FxAABB& fat_box(int proxy) const { return nodes_[proxy].box; }
-  // Whether `box` overlaps the root's box, the first test of every query: false for an empty tree.
-  bool reaches_root(const FxAABB& box) const {
-    return root_ != null_node && overlaps(nodes_[root_].box, box);
-  }
 
   // Calls visit(proxy) for every leaf whose fat box overlaps `box`, in a deterministic order;
   // visit returns false to stop early. Holds its stack on the caller's stack, not in the tree, so

@@ -58,7 +58,7 @@ class FastBodyPass {
         broad_(broad), bullets_(bullets) {}
 
   void advance(std::uint32_t body) {
-    if (!tree().reaches_root(bound_of_swept_box(body))) return;
+    if (!may_hit_anything(body)) return;
     const Sweep sweep = sweep_of(bodies_, states_, body, FxVec2f{});
     const Impact impact = first_impact(body, sweep);
     if (impact.fraction < 1.0f) move_to(body, sweep, impact);
@@ -73,11 +73,23 @@ class FastBodyPass {
     Sweep other_sweep;
   };
 
+  // Whether any body but this one has its box in the tree the pass sweeps against within
+  // bound_of_swept_box(): else first_impact()'s query, whose box lies within that one, finds
+  // nothing, and the sweep is not worth working out. A body falling or swinging far from the
+  // ground and the walls, or in the middle of a heap that walls hold, is not swept.
+  bool may_hit_anything(std::uint32_t body) const {
+    const std::vector<std::uint32_t>& body_of_proxy = bodies_of_proxies();
+    bool found = false;
+    tree().query(bound_of_swept_box(body), [&](int proxy) {
+      found = body_of_proxy[proxy] != body;
+      return !found;
+    });
+    return found;
+  }
+
   // A box that holds swept_box() with room to spare, from what the body's state and sim hold: its box
   // at the step's end grown by twice how far its farthest point moved (step_motion), plus rounding's
-  // share of the coordinates, then by the others' motion. When it misses the root of the tree the
-  // pass sweeps against, so does the query, and the sweep is not worth working out: a body falling
-  // or swinging far from the ground and the walls.
+  // share of the coordinates, then by the others' motion.
   FxAABB bound_of_swept_box(std::uint32_t body) const {
     const BodySim& sim = bodies_.sims[body];
     const FxAABB& end = sim.aabb;
@@ -87,7 +99,11 @@ class FastBodyPass {
     return inflate(end, 2.0f * step_motion(states_[body], sim.reach) + rounding + others_motion_);
   }
 
+  // The tree the pass sweeps against, and its proxies' bodies.
   const AabbTree& tree() const { return bullets_ ? broad_.tree : broad_.fixed_tree; }
+  const std::vector<std::uint32_t>& bodies_of_proxies() const {
+    return bullets_ ? broad_.body_of_proxy : broad_.body_of_fixed_proxy;
+  }
 
   // The box the body's shape covers at the step's start and at its end, grown by how far the
   // others moved: the tree holds their boxes as of the step's start (the next step's broad phase
@@ -105,7 +121,7 @@ class FastBodyPass {
   // searches only the static and kinematic bodies' tree.
   Impact first_impact(std::uint32_t body, const Sweep& sweep) const {
     const FxShape& shape = bodies_.records[body].shape;
-    const std::vector<std::uint32_t>& body_of_proxy = bullets_ ? broad_.body_of_proxy : broad_.body_of_fixed_proxy;
+    const std::vector<std::uint32_t>& body_of_proxy = bodies_of_proxies();
     Impact earliest;
     tree().query(swept_box(body, sweep), [&](int proxy) {
       const std::uint32_t other = body_of_proxy[proxy];
