@@ -14,30 +14,11 @@ two do, with Fx2D against Box2D and ODE on the same bodies:
 - rope: 200 circles of radius 0.1 m, 0.5 m apart, each tied to the next by a distance joint between
   their centres, the first to a static anchor, released level: the chain's swing on distance joints.
 """
-import json
 import pathlib
+import sys
 
-HERE = pathlib.Path(__file__).resolve().parent
-
-
-def scene(name, description, bodies, joints):
-    return {
-        "schema": "fx2d.scene/1",
-        "name": name,
-        "description": description,
-        "steps": 200,
-        "dt": 1 / 60,
-        "gravity": [0, -10],
-        "material": {"density": 1, "friction": 0.6, "restitution": 0},
-        "primary_metric": "displacement",
-        "bounds": {"lower": [-200, -50], "upper": [200, 300]},
-        "solver": {
-            "fx2d": {"substeps": 8, "velocity_passes": 1, "relax_passes": 3, "sleeping": False},
-            "box2d": {"velocity_iterations": 8, "position_iterations": 3, "sleeping": False},
-        },
-        "bodies": bodies,
-        "joints": joints,
-    }
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
+from scene_json import scene, write_beside  # noqa: E402 (the shared module is one folder up)
 
 
 def joint_grid(n=30):
@@ -79,5 +60,4 @@ def rope(links=200):
                  "level (scenes/joints/make_joint_scenes.py).", bodies, joints)
 
 
-for made in (joint_grid(), chain(), rope()):
-    (HERE / f"{made['name']}.json").write_text(json.dumps(made, separators=(",", ":")) + "\n")
+write_beside(__file__, (joint_grid(), chain(), rope()))

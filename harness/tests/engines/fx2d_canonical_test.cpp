@@ -54,14 +54,17 @@ INSTANTIATE_TEST_SUITE_P(Scenes, Fx2dCanonical,
                          });
 
 // The joint scenes (scenes/joints/): the joints' rows are sized in the first step, and no step
-// after allocates either.
-TEST(Fx2dJointScenes, StepsAllocateNothingAfterWarmUp) {
-  for (const char* name : {"chain", "joint_grid"}) {
+// after allocates either; nor in the workload scenes (scenes/workloads/), with their kinematic
+// bodies, walls and fast bodies.
+TEST(Fx2dJointAndWorkloadScenes, StepsAllocateNothingAfterWarmUp) {
+  for (const char* name : {"joints/chain", "joints/joint_grid", "workloads/sizes_pile",
+                           "workloads/paddle_mixer", "workloads/ragdolls", "workloads/smash_pyramid"}) {
     const SceneSpec scene =
-        load_scene_file(std::string(FX2D_SOURCE_DIR) + "/scenes/joints/" + name + ".json", SceneOverrides{});
+        load_scene_file(std::string(FX2D_SOURCE_DIR) + "/scenes/" + name + ".json", SceneOverrides{});
     auto engine = make_fx2d_engine();
     engine->build(scene);
-    constexpr int warm_up = 3, steps = 60;
+    constexpr int warm_up = 3;
+    const int steps = scene.steps;
     for (int i = 0; i < warm_up; ++i) engine->step();
     const long long before = test::heap_allocations.load();
     for (int i = warm_up; i < steps; ++i) engine->step();
