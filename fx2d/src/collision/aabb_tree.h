@@ -116,17 +116,16 @@ class AabbTree {
   // stores might have changed it. The walk runs some 37 instructions a node, predicted well: on
   // settling_boxes 3000's pair search (29 nodes a query, 68M cycles in 200 steps) pushing both
   // children without a branch took 1.17 times as long, a four-lane box test 1.16, and
-  // prefetching the grandchildren 1.02. Per moved body the search costs some 570 cycles on
-  // settling_boxes 800 and 3000 alike (an rdtsc probe: 63 and 465 moved a step), under two
-  // instructions a cycle where the solver's passes run about four. The queries of moved bodies
-  // take most of it, some 890 cycles a queried body on settling_boxes 800 (5.4M of the search's
-  // 7.2M cycles in 200 steps; 32.9M of 50.0M and 800 a body on 3000), the walks of the tree against
-  // itself the rest. A node opened reads three lines, its own and its two children's. Each
-  // internal node's children's boxes and ids copied into one 64-byte line by the refit or rebuild,
-  // and walked while no change followed, did not pay (`ab`, sleeping off): in the steps that refit,
-  // mean step 1.001 on settling_boxes 800 and 1.008 on 3000; refitting in every step that moves a
-  // body, so that every query walks the copies, 0.988 on settling_boxes 800 and 0.978 on pile 800,
-  // with pile's median broad phase 1.148 and 2.6% and 1.0% more instructions.
+  // prefetching the grandchildren 1.02. A query from a moved body costs some 750-790 time-stamp
+  // cycles for about 1,000 instructions on settling_boxes 800 and 3000 alike (an rdtsc probe over
+  // 200 steps, sleeping off): 1.3 instructions a cycle, where the contact passes run about 5. The
+  // queries take most of the pair search (5.4M of its 7.2M cycles on 800, 32.9M of 50.0M on 3000),
+  // the walks of the tree against itself the rest. A node opened reads three lines, its own and its
+  // two children's. Each internal node's children's boxes and ids copied into one 64-byte line by
+  // the refit or rebuild, and walked while no change followed, did not pay (`ab`, sleeping off): in
+  // the steps that refit, mean step 1.001 on settling_boxes 800 and 1.008 on 3000; refitting in
+  // every step that moves a body, so that every query walks the copies, 0.988 on settling_boxes 800
+  // and 0.978 on pile 800, with pile's median broad phase 1.148 and 2.6% and 1.0% more instructions.
   template <class Visit>
   void walk(FxAABB box, int* stack, Visit& visit) const {
     if (!overlaps(nodes_[root_].box, box)) return;
