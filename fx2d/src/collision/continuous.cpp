@@ -57,8 +57,8 @@ class FastBodyPass {
       : gap_(gap), others_motion_(others_motion), max_speed_(max_speed), dt_(dt), states_(states), bodies_(bodies),
         broad_(broad), bullets_(bullets) {}
 
-  void advance(std::uint32_t body) {
-    if (!may_hit_anything(body)) return;
+  void advance(std::uint32_t body, float motion) {
+    if (!may_hit_anything(body, motion)) return;
     const Sweep sweep = sweep_of(bodies_, states_, body, FxVec2f{});
     const Impact impact = first_impact(body, sweep);
     if (impact.fraction < 1.0f) move_to(body, sweep, impact);
@@ -76,27 +76,27 @@ class FastBodyPass {
   // Whether any body but this one has its box in the tree the pass sweeps against within
   // bound_of_swept_box(): else first_impact()'s query, whose box lies within that one, finds
   // nothing, and the sweep is not worth working out. A body falling or swinging far from the
-  // ground and the walls, or in the middle of a heap that walls hold, is not swept.
-  bool may_hit_anything(std::uint32_t body) const {
+  // ground and the walls, or in the middle of a heap that walls hold, is not swept. `motion` is
+  // the body's step_motion().
+  bool may_hit_anything(std::uint32_t body, float motion) const {
     const std::vector<std::uint32_t>& body_of_proxy = bodies_of_proxies();
     bool found = false;
-    tree().query(bound_of_swept_box(body), [&](int proxy) {
+    tree().query(bound_of_swept_box(body, motion), [&](int proxy) {
       found = body_of_proxy[proxy] != body;
       return !found;
     });
     return found;
   }
 
-  // A box that holds swept_box() with room to spare, from what the body's state and sim hold: its box
-  // at the step's end grown by twice how far its farthest point moved (step_motion), plus rounding's
-  // share of the coordinates, then by the others' motion.
-  FxAABB bound_of_swept_box(std::uint32_t body) const {
-    const BodySim& sim = bodies_.sims[body];
-    const FxAABB& end = sim.aabb;
+  // A box that holds swept_box() with room to spare: the body's box at the step's end grown by
+  // twice how far its farthest point moved (`motion`, step_motion()), plus rounding's share of the
+  // coordinates, then by the others' motion.
+  FxAABB bound_of_swept_box(std::uint32_t body, float motion) const {
+    const FxAABB& end = bodies_.sims[body].aabb;
     const float scale =
         std::abs(end.lower.x) + std::abs(end.lower.y) + std::abs(end.upper.x) + std::abs(end.upper.y);
     const float rounding = 0.01f + 1.0e-5f * scale;
-    return inflate(end, 2.0f * step_motion(states_[body], sim.reach) + rounding + others_motion_);
+    return inflate(end, 2.0f * motion + rounding + others_motion_);
   }
 
   // The tree the pass sweeps against, and its proxies' bodies.
@@ -218,18 +218,20 @@ void solve_continuous(const StepContext& step, ContinuousScratch& scratch, std::
   // One walk over the moving bodies, reading only their states and sims (a record is several
   // cache lines away, and this walk took most of the stage when it read them): the fast ones, and
   // how far the kinematic ones, which the first pass sweeps against, moved.
-  std::vector<std::uint32_t>& fast = scratch.fast_bodies;
+  std::vector<ContinuousScratch::FastBody>& fast = scratch.fast_bodies;
   fast.clear();
   float kinematic_motion = 0.0f;
   for (const std::uint32_t body : moving) {
     const BodySim& sim = bodies.sims[body];
     const float motion = step_motion(states[body], sim.reach);
-    if (motion > sim.fast_motion) fast.push_back(body);
+    if (motion > sim.fast_motion) fast.push_back({body, motion});
     if (sim.fast_motion == std::numeric_limits<float>::infinity()) kinematic_motion = std::max(kinematic_motion, motion);
   }
   // Bullets go second, against the motion the first pass left the other bodies.
   for (const bool bullets : {false, true}) {
-    const auto in_pass = [&](std::uint32_t body) { return bodies.records[body].bullet == bullets; };
+    const auto in_pass = [&](const ContinuousScratch::FastBody& fast_body) {
+      return bodies.records[fast_body.body].bullet == bullets;
+    };
     if (std::none_of(fast.begin(), fast.end(), in_pass)) continue;
     const float others_motion = bullets ? others_motion_for_bullets(states, moving, bodies) : kinematic_motion;
     FastBodyPass pass(step.settings.linear_slop, others_motion, step.limits.max_speed, step.settings.dt, states, bodies,
@@ -240,7 +242,7 @@ void solve_continuous(const StepContext& step, ContinuousScratch& scratch, std::
     step.tasks.for_each_range(static_cast<std::uint32_t>(fast.size()), fast_bodies_per_block, min_parallel_fast_bodies,
                               [&](std::uint32_t first, std::uint32_t last) {
                                 for (std::uint32_t k = first; k < last; ++k) {
-                                  if (in_pass(fast[k])) pass.advance(fast[k]);
+                                  if (in_pass(fast[k])) pass.advance(fast[k].body, fast[k].motion);
                                 }
                               });
   }

@@ -27,7 +27,12 @@ struct StepContext;
 
 // The fast bodies of the step, kept between steps so that a step does not allocate.
 struct ContinuousScratch {
-  std::vector<std::uint32_t> fast_bodies;
+  // A fast body, and how far its farthest point moved in the step (as the walk that found it measured).
+  struct FastBody {
+    std::uint32_t body;
+    float motion;
+  };
+  std::vector<FastBody> fast_bodies;
 
   void reserve(std::size_t bodies) { fast_bodies.reserve(bodies); }
 };
