@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <vector>
 
 #include "fx2d/fx2d.h"
 #include "test_bodies.h"
@@ -264,6 +265,56 @@ TEST(ContinuousCollision, CircleRollingDownAWallItTouchesKeepsRolling) {
   const float travelled = speed * static_cast<float>(steps) * scene.settings().dt;
   EXPECT_NEAR(circle->position().y, -travelled, 0.01f * travelled);
   EXPECT_LT(circle->aabb().upper.x, wall_half_thickness);
+}
+
+// A heap of boxes on the ground struck side-on by a heavy box slides off along the ground at tens of
+// metres a second, each box of the bottom row pressed a few millimetres into the ground by the load
+// and rocking a little. Each such box's sweep against the ground, which it touched from the step's
+// start, stopped it as soon as a corner dipped further: carried with the ground, it kept its speed
+// but not its place, step after step, and the boxes behind ran into it (here 25 stalled steps, and
+// two boxes 1.0 m deep in one another). It slides on along the ground instead.
+TEST(ContinuousCollision, BoxesStruckAlongTheGroundSlideOnWithoutPilingUp) {
+  FxSceneSettings settings;
+  settings.sleeping = false;
+  FxScene scene(settings);
+  test::add_ground(scene, 200.0f);
+  constexpr int base = 15, rows = 5;
+  for (int row = 0; row < rows; ++row) {
+    for (int i = 0; i < base - row; ++i) {
+      test::add_box(scene, {0.5f * static_cast<float>(row - base + 1) + static_cast<float>(i),
+                            0.5f + static_cast<float>(row)});
+    }
+  }
+  FxEntityDef heavy;
+  heavy.shape = FxShape::box(1.0f, 1.0f);
+  heavy.material.density = 10.0f;  // 40 kg against 1 kg boxes
+  heavy.position = {-17.5f, 1.0f};
+  heavy.linear_velocity = {60.0f, 0.0f};
+  scene.create_entity(heavy);
+  const float dt = scene.settings().dt;
+  std::vector<FxVec2f> start(scene.entity_count());
+  std::vector<float> speed(scene.entity_count());
+  std::vector<FxContact> contacts;
+  float deepest = 0.0f;
+  int stalled = 0;  // steps in which a body faster than 5 m/s, before and after, moved less than 0.3 of that
+                    // speed's way
+  for (int i = 0; i < 120; ++i) {
+    for (std::uint32_t k = 0; k < scene.entity_count(); ++k) {
+      start[k] = scene.entity(k)->position();
+      speed[k] = length(scene.entity(k)->linear_velocity());
+    }
+    scene.step();
+    for (std::uint32_t k = 0; k < scene.entity_count(); ++k) {
+      const float slower = std::min(speed[k], length(scene.entity(k)->linear_velocity()));
+      if (slower > 5.0f && length(scene.entity(k)->position() - start[k]) < 0.3f * slower * dt) ++stalled;
+    }
+    scene.contacts(contacts);
+    for (const FxContact& contact : contacts) {
+      for (int p = 0; p < contact.point_count; ++p) deepest = std::min(deepest, contact.points[p].separation);
+    }
+  }
+  EXPECT_EQ(stalled, 0);
+  EXPECT_GT(deepest, -0.3f);
 }
 
 TEST(ContinuousCollision, BulletDoesNotPassAFastThinBox) {

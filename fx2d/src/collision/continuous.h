@@ -10,7 +10,8 @@
 // is in does not move, so the result does not depend on the order the fast bodies are taken in.
 // A body stopped at a first impact keeps its velocity: the next step's contact stops it. A body
 // stopped by what it already touched at the step's start (it turned about the point it touched)
-// loses its centre's approach along the normal there: that contact already had its step.
+// loses its centre's approach along the normal there: that contact already had its step. If what
+// it touched is static, it then slides on along it for the rest of the step, swept again.
 #pragma once
 
 #include <cstdint>
@@ -43,8 +44,9 @@ struct ContinuousScratch {
 void set_continuous_extents(BodySim& sim, FxBodyType type, const FxShape& shape);
 
 // Stage: moves each fast body in `moving` back to its pose at its first time of impact, if any,
-// linear_slop short of touching (or, if it began within that, linear_slop closer than it began),
-// and rewrites its displacement in `states` to the motion it kept.
+// linear_slop short of touching (or, if it began within that, linear_slop closer than it began;
+// then, against a static body, on along it as far as nothing stops it), and rewrites its
+// displacement in `states` to the motion it kept.
 void solve_continuous(const StepContext& step, ContinuousScratch& scratch, std::span<FxBodyState> states,
                       std::span<const std::uint32_t> moving, Bodies& bodies, const BroadPhase& broad);
 
