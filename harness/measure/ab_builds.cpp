@@ -90,13 +90,18 @@ std::string file_text(const fs::path& path) {
 fs::path plugin_project(const fs::path& source_tree) { return source_tree / "harness" / "plugin"; }
 
 // Identifies a build apart from its sources: every CMake argument, and the plugin project that
-// wraps the sources, so that a change to the plugin itself never reuses an older build.
+// wraps the sources, so that a change to the plugin itself never reuses an older build. The
+// project's place counts too: CMake ties a build directory to the source directory it was first
+// configured from, and refuses another, so two checkouts with the same plugin files (a git
+// worktree of this one) must not share a directory.
 std::string build_key(const std::vector<std::string>& cmake_arguments, const fs::path& project) {
   Fnv1a64 hash;
   for (const std::string& argument : cmake_arguments) {
     hash.add(argument);
     hash.add(std::string_view("\0", 1));
   }
+  hash.add(project.string());
+  hash.add(std::string_view("\0", 1));
   for (const char* name :
        {"CMakeLists.txt", "Fx2dBenchPlugin.cmake", "fx2d_plugin.cpp", "fx2d_plugin_abi.h", "fx2d_bench_plugin.hpp"})
     hash.add(file_text(project / name));
