@@ -89,12 +89,9 @@ std::string file_text(const fs::path& path) {
 
 fs::path plugin_project(const fs::path& source_tree) { return source_tree / "harness" / "plugin"; }
 
-// Identifies a build apart from its sources: every CMake argument, and the plugin project that
-// wraps the sources, so that a change to the plugin itself never reuses an older build. The
-// project's place counts too: CMake ties a build directory to the source directory it was first
-// configured from, and refuses another, so two checkouts with the same plugin files (a git
-// worktree of this one) must not share a directory.
-std::string build_key(const std::vector<std::string>& cmake_arguments, const fs::path& project) {
+}  // namespace
+
+std::string plugin_build_key(const std::vector<std::string>& cmake_arguments, const fs::path& project) {
   Fnv1a64 hash;
   for (const std::string& argument : cmake_arguments) {
     hash.add(argument);
@@ -107,6 +104,8 @@ std::string build_key(const std::vector<std::string>& cmake_arguments, const fs:
     hash.add(file_text(project / name));
   return hash.hex();
 }
+
+namespace {
 
 std::string joined(const std::vector<std::string>& words) {
   std::string text;
@@ -215,7 +214,7 @@ PluginBuild built_worktree(const ResolvedBuild& build, const std::vector<std::st
   key.emplace_back(checkout.string());
   const std::string description =
       joined({"worktree " + checkout.string() + " (of " + head + ")", cmake_text(build.cmake_args)});
-  const fs::path directory = fs::path(ab_cache_directory()) / ("worktree-" + build_key(key, project));
+  const fs::path directory = fs::path(ab_cache_directory()) / ("worktree-" + plugin_build_key(key, project));
   BuildRequest request{build.option, worktree_word, checkout, checkout, project, directory, description, cmake_args};
   fs::create_directories(request.directory);
   progress_line(side_of(build.option) + " = " + description + ": building (log " + (request.directory / "build.log").string() + ")");
@@ -231,7 +230,8 @@ PluginBuild built_revision(const ResolvedBuild& build, const std::vector<std::st
   const std::string description = joined(
       {spec.starts_with(short_sha) ? short_sha : short_sha + " (" + spec + ")", cmake_text(build.cmake_args)});
   const fs::path project = plugin_project(build.source_tree);
-  const fs::path directory = fs::path(ab_cache_directory()) / (sha + "-" + build_key(cmake_args, project));
+  const fs::path directory =
+      fs::path(ab_cache_directory()) / (sha + "-" + plugin_build_key(cmake_args, project));
   const std::string plugin_description = joined({short_sha, cmake_text(build.cmake_args)});
   BuildRequest request{option, spec, build.path, directory / "src", project, directory, plugin_description, cmake_args};
   const std::string side = side_of(option);

@@ -20,8 +20,10 @@
 // option, the revision and the log.
 #pragma once
 
+#include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "engines/plugin_engine.h"
 
@@ -48,6 +50,14 @@ struct ResolvedBuild {
   std::vector<std::string> cmake_args;  // the user's extra CMake arguments, split (cmake_words)
   std::string source_tree;  // revision, worktree: the tree whose harness/plugin builds it
 };
+
+// The name of the build directory `ab` keeps for a plugin built with `cmake_arguments` from the
+// plugin project at `project`: it changes with every argument, with the project's files, so that a
+// change to the plugin itself never reuses an older build, and with where the project is, since
+// CMake ties a build directory to the source directory it was first configured from and refuses
+// another (two checkouts with the same plugin files, a git worktree of this one, must not share one).
+std::string plugin_build_key(const std::vector<std::string>& cmake_arguments,
+                             const std::filesystem::path& project);
 
 // The words of extra CMake arguments `text`, given with `option` (e.g. "--a" for --a-cmake), as a
 // shell splits them: whitespace separates words, single quotes keep what they hold as it is, double

@@ -1,10 +1,10 @@
 // `fx2d-bench ab`: the ABBA order, the split of an A/B file back into two result sets, the
 // command end to end on prebuilt plugins (its verdict is the one `compare` gives on its file), the
-// counts of exactly the plugins it timed, the one-line refusals of every misuse, a plugin built in
-// this build tree against the same source built by ab (the same instructions), and the
-// statistical proof of the method on this machine: the same build against itself is judged
-// "no change" (also when one side is that build by ab), and a build 5% slower per step is judged
-// "slower", each in at least 19 of 20 repetitions.
+// counts of exactly the plugins it timed, the one-line refusals of every misuse, the name of the
+// directory it builds a plugin in, a plugin built in this build tree against the same source built
+// by ab (the same instructions), and the statistical proof of the method on this machine: the same
+// build against itself is judged "no change" (also when one side is that build by ab), and a build
+// 5% slower per step is judged "slower", each in at least 19 of 20 repetitions.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -53,6 +53,27 @@ bool valgrind_can_count() { return !FX2D_BENCH_SANITIZED && std::system("valgrin
 
 // `worktree` needs the sources to be a git checkout (a source archive is not).
 bool sources_are_a_checkout() { return fs::exists(fs::path(FX2D_SOURCE_DIR) / ".git"); }
+
+// The directory ab builds a plugin in is named by what the build is made from. Two plugin projects
+// with the same files in two places (a git worktree of this checkout) get two directories: CMake
+// will not configure one directory from two sources, and ab failed on the second.
+TEST(AbBuildKey, ChangesWithTheArgumentsThePluginFilesAndWhereTheProjectIs) {
+  const fs::path project = fs::path(FX2D_SOURCE_DIR) / "harness" / "plugin";
+  const fs::path copy = fs::temp_directory_path() / ("fx2d_ab_build_key_" + std::to_string(getpid()));
+  fs::remove_all(copy);
+  fs::create_directories(copy);
+  for (const fs::directory_entry& entry : fs::directory_iterator(project)) {
+    if (entry.is_regular_file()) fs::copy_file(entry.path(), copy / entry.path().filename());
+  }
+  const std::string key = plugin_build_key({"-DFX2D_PROFILE=ON"}, project);
+  EXPECT_EQ(key, plugin_build_key({"-DFX2D_PROFILE=ON"}, project));
+  EXPECT_NE(key, plugin_build_key({"-DFX2D_PROFILE=OFF"}, project));
+  const std::string copied = plugin_build_key({"-DFX2D_PROFILE=ON"}, copy);
+  EXPECT_NE(key, copied);
+  std::ofstream(copy / "fx2d_plugin.cpp", std::ios::app) << "\n";
+  EXPECT_NE(copied, plugin_build_key({"-DFX2D_PROFILE=ON"}, copy));
+  fs::remove_all(copy);
+}
 
 TEST(AbRounds, AlternateABBA) {
   std::string order;
