@@ -186,5 +186,66 @@ TEST(BodyIntegration, WriteBackLeavesEachSimAsItsScalarArithmeticDoes) {
   EXPECT_GT(records[5].sleep_time, time_to_sleep);
 }
 
+// A later substep's integration carries on each body's impulses since the last integration (its
+// warm start, Substep::warm_start) but not what the speed limits took off in between, which no
+// impulse applied: carried on, the limit would be applied again as if it were an impulse.
+TEST(BodyIntegration, ACarryingIntegrationReappliesTheImpulsesButNotTheLimits) {
+  const SpeedLimits limits{10.0f, 50.0f};
+  const float h = 1.0f / 480.0f;
+  const FxVec2f gravity{0.0f, -10.0f};
+  const float damping = 1.0f / (1.0f + 0.5f * h);
+  constexpr std::uint32_t bodies = lane_count;
+  std::vector<FxBodyState> states(bodies + 1);  // the last one is the padding body
+  BodyIntegration integration;
+  integration.reserve(bodies);
+  integration.clear(bodies, bodies);
+  for (std::uint32_t i = 0; i < bodies; ++i) {
+    const float k = static_cast<float>(i);
+    states[i] = {{0.5f * k - 2.0f, 1.0f - 0.25f * k}, 1.5f - 0.4f * k, movable_flag, {}, {}};
+    integration.add_moving(i);
+    integration.add_dynamic(i, gravity, damping, damping);
+  }
+  integration.finish();
+  struct Velocity {
+    FxVec2f linear;
+    float angular;
+  };
+  const auto integrated = [&](FxVec2f v, float w) {
+    return Velocity{limited_speed(damping * (v + h * gravity), limits.max_speed),
+                    limited_spin(damping * w, limits.max_spin)};
+  };
+
+  integration.integrate_velocities(states, h, limits, false, Tasks{});
+  // The substep's impulses; body 3's takes it past max_speed and body 5's past max_spin, so the
+  // position integration limits them.
+  std::vector<Velocity> impulse(bodies);
+  for (std::uint32_t i = 0; i < bodies; ++i) {
+    const float k = static_cast<float>(i);
+    impulse[i] = {{0.3f * k - 1.0f, 0.75f + 0.1f * k}, 0.2f * k - 0.5f};
+  }
+  impulse[3].linear = {40.0f, 0.0f};
+  impulse[5].angular = 90.0f;
+  for (std::uint32_t i = 0; i < bodies; ++i) {
+    states[i].linear_velocity += impulse[i].linear;
+    states[i].angular_velocity += impulse[i].angular;
+  }
+  integration.integrate_positions(states, h, limits, Tasks{});
+  ASSERT_FLOAT_EQ(length(states[3].linear_velocity), limits.max_speed);
+  ASSERT_FLOAT_EQ(states[5].angular_velocity, limits.max_spin);
+  const std::vector<FxBodyState> substep_end = states;
+
+  integration.integrate_velocities(states, h, limits, true, Tasks{});
+  for (std::uint32_t i = 0; i < bodies; ++i) {
+    const Velocity next = integrated(substep_end[i].linear_velocity, substep_end[i].angular_velocity);
+    const FxVec2f v = next.linear + impulse[i].linear;
+    const float w = next.angular + impulse[i].angular;
+    // Equal but for rounding: the impulses are recovered as a difference of velocities.
+    EXPECT_NEAR(states[i].linear_velocity.x, v.x, 1e-5f) << "body " << i;
+    EXPECT_NEAR(states[i].linear_velocity.y, v.y, 1e-5f) << "body " << i;
+    EXPECT_NEAR(states[i].angular_velocity, w, 1e-4f) << "body " << i;
+  }
+  EXPECT_EQ(states[bodies].linear_velocity.x, 0.0f);  // the padding body stays at rest
+  EXPECT_EQ(states[bodies].angular_velocity, 0.0f);
+}
 }  // namespace
 }  // namespace fx2d::detail

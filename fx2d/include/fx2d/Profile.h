@@ -20,7 +20,8 @@ enum class FxStage : int {
   prepare,          // prepare_solver: gather the bodies' state, build the contact constraints
   colour_and_pack,  // colour_and_pack: colour the constraints, pack them into batches, first separations
   integrate,        // integrate_velocities and integrate_positions per substep, finalize_bodies
-  warm_start,       // warm_start: the contacts' accumulated impulses, per substep
+  warm_start,       // warm_start: the contacts' accumulated impulses, in the first substep (the later
+                    // ones' integration carries them on when there are no joints)
   solve,            // solve: the velocity passes with position correction, per substep
   relax,            // relax: separations at the new poses, passes without correction, per substep
   restitution,      // apply_restitution, after the substeps

@@ -63,10 +63,11 @@ FX2D_LANE_INLINE void accelerate_lanes(float* __restrict vx, float* __restrict v
 struct DynamicColumns {
   const std::uint32_t* body;
   const float *acceleration_x, *acceleration_y, *linear_factor, *angular_factor;
+  float *integrated_x, *integrated_y, *integrated_w;
 };
 
-FX2D_LANE_KERNEL void integrate_velocity_groups(DynamicColumns d, std::size_t count, FxBodyState* states, float h,
-                                                SpeedLimits limits) {
+FX2D_LANE_KERNEL void integrate_velocity_groups(DynamicColumns d, std::size_t count, FxBodyState* states,
+                                                float h, SpeedLimits limits, bool carry_impulses) {
   for (std::size_t first = 0; first < count; first += lane_count) {
     LaneColumns row;
     gather_columns<velocity_row>(states, d.body + first, row);
@@ -75,13 +76,53 @@ FX2D_LANE_KERNEL void integrate_velocity_groups(DynamicColumns d, std::size_t co
     accelerate_lanes(vx, vy, w, speed_squared, d.acceleration_x + first, d.acceleration_y + first, d.linear_factor + first,
                      d.angular_factor + first, h, limits.max_spin);
     slow_fast_lanes(vx, vy, speed_squared, limits.max_speed);
-    from_lanes(vx, row.c0), from_lanes(vy, row.c1), from_lanes(w, row.c2);
+    // What the impulses changed each velocity by since its last integration, its velocity now less
+    // the one that integration gave it, is carried on.
+    LaneColumn integrated_x, integrated_y, integrated_w;
+    from_lanes(vx, integrated_x), from_lanes(vy, integrated_y), from_lanes(w, integrated_w);
+    if (carry_impulses) {
+      LaneColumn last_x, last_y, last_w;
+      from_lanes(d.integrated_x + first, last_x), from_lanes(d.integrated_y + first, last_y);
+      from_lanes(d.integrated_w + first, last_w);
+      row.c0 = integrated_x + (row.c0 - last_x);
+      row.c1 = integrated_y + (row.c1 - last_y);
+      row.c2 = integrated_w + (row.c2 - last_w);
+    } else {
+      row.c0 = integrated_x, row.c1 = integrated_y, row.c2 = integrated_w;
+    }
+    to_lanes(integrated_x, d.integrated_x + first), to_lanes(integrated_y, d.integrated_y + first);
+    to_lanes(integrated_w, d.integrated_w + first);
     scatter_columns<velocity_row>(states, d.body + first, row);
   }
 }
 
-FX2D_LANE_KERNEL void integrate_position_groups(const std::uint32_t* body, std::size_t count, FxBodyState* states, float h,
-                                                SpeedLimits limits) {
+// Where the integrated velocities of the awake dynamic bodies are kept (BodyIntegration).
+struct IntegratedVelocities {
+  float *x, *y, *w;
+  const std::uint32_t* entry_of_body;
+};
+
+// A limit that slows a dynamic body between two integrations changes its velocity as no impulse
+// does: its integrated velocity takes the change, so that the next integration carries on only
+// what the impulses did. Reads each lane's velocity before the limits from its state, not yet
+// written back; `vx`, `vy`, `w` are after. Out of line: few groups have a lane over a limit.
+[[gnu::cold, gnu::noinline]] void take_limits_into_integrated(const std::uint32_t* body,
+                                                              const FxBodyState* states, const float* vx,
+                                                              const float* vy, const float* w,
+                                                              const IntegratedVelocities& integrated) {
+  for (int lane = 0; lane < lane_count; ++lane) {
+    const FxBodyState& before = states[body[lane]];
+    if ((before.flags & movable_flag) == 0) continue;  // kinematic, or the padding body
+    const std::uint32_t entry = integrated.entry_of_body[body[lane]];
+    integrated.x[entry] += vx[lane] - before.linear_velocity.x;
+    integrated.y[entry] += vy[lane] - before.linear_velocity.y;
+    integrated.w[entry] += w[lane] - before.angular_velocity;
+  }
+}
+
+FX2D_LANE_KERNEL void integrate_position_groups(const std::uint32_t* body, std::size_t count,
+                                                FxBodyState* states, float h, SpeedLimits limits,
+                                                const IntegratedVelocities& integrated) {
   for (std::size_t first = 0; first < count; first += lane_count) {
     LaneColumns velocity, pose;
     gather_columns<velocity_row>(states, body + first, velocity);
@@ -108,12 +149,14 @@ FX2D_LANE_KERNEL void integrate_position_groups(const std::uint32_t* body, std::
       const FxRot q = integrate_rotation({qc[lane], qs[lane]}, h * w[lane]);
       qc[lane] = q.c, qs[lane] = q.s;
     }
+    from_lanes(dpx, pose.c0), from_lanes(dpy, pose.c1), from_lanes(qc, pose.c2), from_lanes(qs, pose.c3);
+    scatter_columns<pose_row>(states, body + first, pose);
+    // Last, so that no vector register is live across the call.
     if (limited) {
+      take_limits_into_integrated(body + first, states, vx, vy, w, integrated);
       from_lanes(vx, velocity.c0), from_lanes(vy, velocity.c1), from_lanes(w, velocity.c2);
       scatter_columns<velocity_row>(states, body + first, velocity);
     }
-    from_lanes(dpx, pose.c0), from_lanes(dpy, pose.c1), from_lanes(qc, pose.c2), from_lanes(qs, pose.c3);
-    scatter_columns<pose_row>(states, body + first, pose);
   }
 }
 
@@ -238,7 +281,9 @@ void BodyIntegration::reserve(std::size_t bodies) {
   const std::size_t padded = bodies + lane_count;
   moving_.reserve(padded);
   dynamic_.reserve(padded);
-  for (std::vector<float>* column : {&acceleration_x_, &acceleration_y_, &linear_factor_, &angular_factor_}) {
+  entry_of_body_.reserve(padded);
+  for (std::vector<float>* column : {&acceleration_x_, &acceleration_y_, &linear_factor_, &angular_factor_,
+                                     &integrated_x_, &integrated_y_, &integrated_w_}) {
     column->reserve(padded);
   }
 }
@@ -253,7 +298,9 @@ void BodyIntegration::clear(std::uint32_t padding_body, std::size_t body_count) 
   if (moving_.size() >= padded) return;
   moving_.resize(padded);
   dynamic_.resize(padded);
-  for (std::vector<float>* column : {&acceleration_x_, &acceleration_y_, &linear_factor_, &angular_factor_}) {
+  entry_of_body_.resize(padded);
+  for (std::vector<float>* column : {&acceleration_x_, &acceleration_y_, &linear_factor_, &angular_factor_,
+                                     &integrated_x_, &integrated_y_, &integrated_w_}) {
     column->resize(padded);
   }
 }
@@ -265,15 +312,17 @@ void BodyIntegration::finish() {
 }
 
 void BodyIntegration::integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits,
-                                           const Tasks& tasks) const {
+                                           bool carry_impulses, const Tasks& tasks) {
   const auto count = static_cast<std::uint32_t>(dynamic_size_);
-  tasks.for_each_range(count, tasks.per_worker(count, lane_count), min_parallel_bodies,
-                       [&](std::uint32_t first, std::uint32_t last) {
-                         const DynamicColumns columns{dynamic_.data() + first, acceleration_x_.data() + first,
-                                                      acceleration_y_.data() + first, linear_factor_.data() + first,
-                                                      angular_factor_.data() + first};
-                         integrate_velocity_groups(columns, last - first, states.data(), h, limits);
-                       });
+  tasks.for_each_range(
+      count, tasks.per_worker(count, lane_count), min_parallel_bodies,
+      [&](std::uint32_t first, std::uint32_t last) {
+        const DynamicColumns columns{dynamic_.data() + first,        acceleration_x_.data() + first,
+                                     acceleration_y_.data() + first, linear_factor_.data() + first,
+                                     angular_factor_.data() + first, integrated_x_.data() + first,
+                                     integrated_y_.data() + first,   integrated_w_.data() + first};
+        integrate_velocity_groups(columns, last - first, states.data(), h, limits, carry_impulses);
+      });
 }
 
 float BodyIntegration::largest_acceleration() const {
@@ -285,11 +334,14 @@ float BodyIntegration::largest_acceleration() const {
 }
 
 void BodyIntegration::integrate_positions(std::span<FxBodyState> states, float h, SpeedLimits limits,
-                                          const Tasks& tasks) const {
+                                          const Tasks& tasks) {
   const auto count = static_cast<std::uint32_t>(moving_size_);
+  const IntegratedVelocities integrated{integrated_x_.data(), integrated_y_.data(), integrated_w_.data(),
+                                        entry_of_body_.data()};
   tasks.for_each_range(count, tasks.per_worker(count, lane_count), min_parallel_bodies,
                        [&](std::uint32_t first, std::uint32_t last) {
-                         integrate_position_groups(moving_.data() + first, last - first, states.data(), h, limits);
+                         integrate_position_groups(moving_.data() + first, last - first, states.data(), h,
+                                                   limits, integrated);
                        });
 }
 

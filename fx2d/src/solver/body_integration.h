@@ -1,7 +1,8 @@
 // The substep's two body loops, eight bodies at a time: velocity integration (gravity, forces,
-// damping) of the awake dynamic bodies, and position integration of every awake moving body,
-// each with the speed limits applied first; and, at the step's end, the write-back of every awake
-// moving body's pose and velocity to its sim, eight at a time too.
+// damping, and in a later substep the warm start the impulses carry over) of the awake dynamic
+// bodies, and position integration of every awake moving body, each with the speed limits applied
+// first; and, at the step's end, the write-back of every awake moving body's pose and velocity to
+// its sim, eight at a time too.
 //
 // Invariants:
 // - both body lists are padded to whole groups of eight with the padding body, whose state is
@@ -51,6 +52,7 @@ class BodyIntegration {
   // An awake dynamic body (also added with add_moving), with what its velocity integration reads.
   void add_dynamic(std::uint32_t body, FxVec2f acceleration, float linear_factor, float angular_factor) {
     dynamic_[dynamic_size_] = body;
+    entry_of_body_[body] = static_cast<std::uint32_t>(dynamic_size_);
     acceleration_x_[dynamic_size_] = acceleration.x;
     acceleration_y_[dynamic_size_] = acceleration.y;
     linear_factor_[dynamic_size_] = linear_factor;
@@ -65,10 +67,15 @@ class BodyIntegration {
   // The awake moving bodies added this step, in order, without the padding.
   std::span<const std::uint32_t> moving_bodies() const { return {moving_.data(), moving_count_}; }
 
-  // v <- limited(linear_factor * (v + h * acceleration)), w <- limited(angular_factor * w).
-  void integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits, const Tasks& tasks) const;
+  // v <- limited(linear_factor * (v + h * acceleration)), w <- limited(angular_factor * w), kept as
+  // the body's integrated velocity. With `carry_impulses`, each body then also gets again what the
+  // constraints changed its velocity by since its last integration: the impulses they have
+  // accumulated, when they are contacts alone, whose rows stay the same for the whole step. That
+  // is their warm start, without a sweep over them (Substep::warm_start).
+  void integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits, bool carry_impulses,
+                            const Tasks& tasks);
   // v, w <- limited(v, w); then displacement and rotation advance by h.
-  void integrate_positions(std::span<FxBodyState> states, float h, SpeedLimits limits, const Tasks& tasks) const;
+  void integrate_positions(std::span<FxBodyState> states, float h, SpeedLimits limits, const Tasks& tasks);
 
  private:
   std::uint32_t padding_body_ = 0;
@@ -81,6 +88,10 @@ class BodyIntegration {
   std::vector<std::uint32_t> dynamic_;
   // Per entry of dynamic_:
   std::vector<float> acceleration_x_, acceleration_y_, linear_factor_, angular_factor_;
+  // Per entry of dynamic_, the velocity its last integration gave it, before any impulse, and
+  // with whatever the speed limits have taken off since, which no impulse applied either.
+  std::vector<float> integrated_x_, integrated_y_, integrated_w_;
+  std::vector<std::uint32_t> entry_of_body_;  // per body, its entry in dynamic_ (awake dynamic bodies)
 };
 
 }  // namespace fx2d::detail

@@ -202,12 +202,21 @@ class Substep {
 
   void set_point_order(PointOrder order) { point_order_ = order; }
 
-  void integrate_velocities() {
+  // The first substep's velocities start from the last step's, and its warm start applies the
+  // impulses the contacts kept from that step, with the rows pack() worked out for this one. A later
+  // substep's warm start reapplies the impulses accumulated in the substeps before, through the
+  // same rows, which is exactly what they changed each body's velocity by since its last
+  // integration: so the integration carries that change on, and the sweep over the contacts is
+  // left out (a joint's rows turn with its bodies within the step, so with joints it is not).
+  void integrate_velocities(int substep) {
     step_.clock.switch_to(FxStage::integrate);
-    solver_.integration.integrate_velocities(solver_.states, step_.substep_dt, step_.limits, step_.tasks);
+    carried_impulses_ = substep > 0 && constraints_.empty();
+    solver_.integration.integrate_velocities(solver_.states, step_.substep_dt, step_.limits,
+                                             carried_impulses_, step_.tasks);
   }
 
   void warm_start() {
+    if (carried_impulses_) return;
     if (!constraints_.empty()) {
       step_.clock.switch_to(FxStage::constraints);
       solver_.joint_rows.warm_start(solver_.states, step_.settings.force_scalar_solver);
@@ -257,6 +266,7 @@ class Substep {
   const Constraints& constraints_;
   SolverConstraintContext joints_;
   PointOrder point_order_ = PointOrder::first_to_last;
+  bool carried_impulses_ = false;  // this substep's integration carried the warm start on
 };
 
 }  // namespace
@@ -267,7 +277,7 @@ void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& b
   Substep substep(step, solver, bodies, constraints);
   for (int i = 0; i < step.settings.substeps; ++i) {
     substep.set_point_order(i % 2 == 0 ? PointOrder::first_to_last : PointOrder::last_to_first);
-    substep.integrate_velocities();
+    substep.integrate_velocities(i);
     substep.warm_start();
     substep.solve();
     substep.integrate_positions();

@@ -6,8 +6,8 @@
 //   prepare          prepare_solver()         gather body state, list the contacts    solver_stages.h
 //   colour_and_pack  colour_and_pack()        colour them, build constraints in lanes
 //                    solve_substeps()         per substep:
-//   integrate          integrate_velocities()   gravity, forces, damping
-//   warm_start         warm_start()             the accumulated impulses
+//   integrate          integrate_velocities()   gravity, forces, damping; later substeps carry the impulses
+//   on warm_start         warm_start()             the accumulated impulses (first substep, or with joints)
 //   solve              solve()                  soft velocity passes, then the push of deep overlaps
 //   integrate          integrate_positions()
 //   relax              relax()                  take the push back, rigid passes
