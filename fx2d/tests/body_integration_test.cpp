@@ -187,7 +187,7 @@ TEST(BodyIntegration, WriteBackLeavesEachSimAsItsScalarArithmeticDoes) {
 }
 
 // A later substep's integration carries on each body's impulses since the last integration (its
-// warm start, Substep::warm_start) but not what the speed limits took off in between, which no
+// warm start, Substep::carries_warm_start) but not what the speed limits took off in between, which no
 // impulse applied: carried on, the limit would be applied again as if it were an impulse.
 TEST(BodyIntegration, ACarryingIntegrationReappliesTheImpulsesButNotTheLimits) {
   const SpeedLimits limits{10.0f, 50.0f};

@@ -71,7 +71,7 @@ class BodyIntegration {
   // the body's integrated velocity. With `carry_impulses`, each body then also gets again what the
   // constraints changed its velocity by since its last integration: the impulses they have
   // accumulated, when they are contacts alone, whose rows stay the same for the whole step. That
-  // is their warm start, without a sweep over them (Substep::warm_start).
+  // is their warm start, without a sweep over them (Substep::carries_warm_start).
   void integrate_velocities(std::span<FxBodyState> states, float h, SpeedLimits limits, bool carry_impulses,
                             const Tasks& tasks);
   // v, w <- limited(v, w); then displacement and rotation advance by h.

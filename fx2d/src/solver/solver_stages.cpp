@@ -202,21 +202,23 @@ class Substep {
 
   void set_point_order(PointOrder order) { point_order_ = order; }
 
-  // The first substep's velocities start from the last step's, and its warm start applies the
-  // impulses the contacts kept from that step, with the rows pack() worked out for this one. A later
-  // substep's warm start reapplies the impulses accumulated in the substeps before, through the
-  // same rows, which is exactly what they changed each body's velocity by since its last
-  // integration: so the integration carries that change on, and the sweep over the contacts is
-  // left out (a joint's rows turn with its bodies within the step, so with joints it is not).
-  void integrate_velocities(int substep) {
+  // With `carry_impulses`, the integration also gives each body the substep's warm start
+  // (carries_warm_start()).
+  void integrate_velocities(bool carry_impulses) {
     step_.clock.switch_to(FxStage::integrate);
-    carried_impulses_ = substep > 0 && constraints_.empty();
-    solver_.integration.integrate_velocities(solver_.states, step_.substep_dt, step_.limits,
-                                             carried_impulses_, step_.tasks);
+    solver_.integration.integrate_velocities(solver_.states, step_.substep_dt, step_.limits, carry_impulses,
+                                             step_.tasks);
   }
 
+  // The first substep's warm start applies the impulses the contacts kept from the last step, with
+  // the rows pack() worked out for this one. A later substep's reapplies the impulses accumulated
+  // in the substeps before, through the same rows, which is exactly what they changed each body's
+  // velocity by since its last integration: so the integration carries that change on, and the
+  // sweep over the contacts is left out. Not with joints: their rows turn with their bodies within
+  // the step.
+  bool carries_warm_start(int substep) const { return substep > 0 && constraints_.empty(); }
+
   void warm_start() {
-    if (carried_impulses_) return;
     if (!constraints_.empty()) {
       step_.clock.switch_to(FxStage::constraints);
       solver_.joint_rows.warm_start(solver_.states, step_.settings.force_scalar_solver);
@@ -266,7 +268,6 @@ class Substep {
   const Constraints& constraints_;
   SolverConstraintContext joints_;
   PointOrder point_order_ = PointOrder::first_to_last;
-  bool carried_impulses_ = false;  // this substep's integration carried the warm start on
 };
 
 }  // namespace
@@ -277,8 +278,9 @@ void solve_substeps(const StepContext& step, SolverData& solver, const Bodies& b
   Substep substep(step, solver, bodies, constraints);
   for (int i = 0; i < step.settings.substeps; ++i) {
     substep.set_point_order(i % 2 == 0 ? PointOrder::first_to_last : PointOrder::last_to_first);
-    substep.integrate_velocities(i);
-    substep.warm_start();
+    const bool carried = substep.carries_warm_start(i);
+    substep.integrate_velocities(carried);
+    if (!carried) substep.warm_start();
     substep.solve();
     substep.integrate_positions();
     substep.relax();
