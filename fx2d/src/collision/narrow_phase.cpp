@@ -197,6 +197,12 @@ PairUpdate collide_pair(const StepContext& step, CachedContact& contact, const B
   if (!overlaps(tree.fat_box(ra.proxy), tree.fat_box(rb.proxy))) return PairUpdate::separated;
   // Apart before and still surely apart (when the step tests that: `reach` is not empty): collide()
   // would leave the record as it is, bar the face it tries first next time, which decides no result.
+  // A second test, of the bodies' tight boxes apart along x or y by more than the collision's
+  // margin, rules out most of the rest (neighbours side by side, whose circles overlap: 73% of
+  // settling_boxes 800's pairs without points that reach collide(), 78% of 200's) but did not pay:
+  // `ab`, sleeping off, 12 rounds, instructions 0.983 (settling_boxes 800), 0.990 (200) and 1.001
+  // (pile 300), steps 1.024, 0.993 and 0.976 (inconclusive). Their collisions are cheap already, the
+  // face that last separated them tried first.
   const float dt = step.settings.dt;
   if (!reach.empty() && contact.manifold.point_count == 0 && surely_apart(reach[a], reach[b], dt)) {
     return PairUpdate::collided;
