@@ -30,7 +30,7 @@ int fail(const std::string& message, fxbench::ExitCode code) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Times Fx2D, Box2D and ODE on the same scenes and measures their accuracy", "fx2d-bench"};
+  CLI::App app{"Times 2D physics engines (Fx2D, Box2D, ODE, Chipmunk2D, plugins) on the same scenes and measures their accuracy", "fx2d-bench"};
   app.set_version_flag("--version", [] { return "fx2d-bench (" + fxbench::build_description() + ")"; });
   app.require_subcommand(1);
   fxbench::register_run(app, fxbench::join_command_line(argc, argv));
