@@ -195,6 +195,13 @@ def scaling_section(files, out_dir):
                     "the two run in the same pass, with its 95% interval; in a merged file the ratio of the medians) "
                     "against workers, per engine, scene, size and setting of the other knobs; the dashed line is the "
                     "ideal, speedup = workers.")]
+    # Threads that hand work to each other pay a cache line's trip between cores at each hand-over.
+    for f in files:
+        if f.sweep is not None and f.core_round_trip_ns and report_data.worker_scaling(f.sweep, f.sweep_runs):
+            start, end = f.core_round_trip_ns
+            parts.append(note(f"{esc(f.label)}: a cache line went from one core to another and back in "
+                              f"{start:.0f} ns as the sweep began, {end:.0f} ns as it ended; the speedups "
+                              "move with it."))
     for engine in dict.fromkeys(s["engine"] for s in series):
         mine = [s for s in series if s["engine"] == engine]
         names = list(dict.fromkeys(name for s in mine for phases in s["phases"] for name, _ in phases))

@@ -22,6 +22,9 @@ PROVENANCE_FIELDS = ("fx2d_version", "fx2d_git_revision", "build_type", "build_f
                      "cpu_model", "kernel", "hostname", "date_utc", "command_line")
 
 
+ROUND_TRIP_FIELDS = ("core_round_trip_ns_start", "core_round_trip_ns_end")
+
+
 class InputProblem(Exception):
     """A file the report cannot take; the message is one line, fit to print as is."""
 
@@ -77,6 +80,9 @@ class InputFile:
     sweep_runs: list = field(default_factory=list)  # a sweep's /runs/k by k: each point's phases
     stability: dict = field(default_factory=dict)   # table name -> Table, "" for /stability itself
     history: Table = None  # the nightly history (/history), read by its documented columns
+    # The cross-core round trip as the measurement began and ended, ns (RESULTS_FORMAT.md); None when
+    # the file does not say (written before it was recorded, or on one hardware thread).
+    core_round_trip_ns: tuple = None
 
 
 def _text(value):
@@ -191,6 +197,8 @@ def read_h5(path, label):
                                    f"(expected {RESULTS_SCHEMA} or {HISTORY_SCHEMA_PREFIX}N)")
             provenance = {name: _text(f.attrs[name]) for name in PROVENANCE_FIELDS if name in f.attrs}
             loaded = InputFile(path, label, schema, provenance)
+            round_trip = tuple(float(f.attrs.get(name, 0.0)) for name in ROUND_TRIP_FIELDS)
+            loaded.core_round_trip_ns = round_trip if min(round_trip) > 0 else None
             if "sweep" in f:
                 loaded.sweep = _read_table(f["sweep"])
             if "stability" in f:

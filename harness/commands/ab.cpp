@@ -145,6 +145,7 @@ ExitCode ab_command(const AbOptions& options, const std::string& command_line) {
     for (RunRecord* run : {&runs.a, &runs.b})
       if (run->repeats > 0) results.runs.push_back(std::move(*run));
   }
+  finish_provenance(results.provenance);
 
   // interrupt.h: a partial result never takes the final name, and gets no verdict.
   if (results.partial) {

@@ -254,6 +254,7 @@ void run_command(const RunOptions& options, const std::string& command_line) {
     steps_before += static_cast<long>(timed.size()) * planned_steps(scene, plan);
   }
   progress.finish();
+  finish_provenance(results.provenance);
 
   if (options.json)
     std::cout << summary_json(results).dump(2) << '\n';

@@ -171,6 +171,8 @@ void stability_command(const StabilityOptions& options, const std::string& comma
   for (const StabilityTest* test : tests)
     start_scenes.push_back(load_test_scene(*test, options.suite_dir, user_sets(options.sets), test->search.start));
   const WorkList work = work_list_of(options, engines, tests, start_scenes);
+  ResultSet file;
+  file.provenance = collect_provenance(command_line, measure_counter_ghz());
   std::vector<TestResult> results;
   for (const ItemPiece& piece : pieces_of(shard, work.costs, work.spreadable))
     results.push_back(search_test(options, *work.pairs[piece.item].first, *work.pairs[piece.item].second, piece));
@@ -182,8 +184,7 @@ void stability_command(const StabilityOptions& options, const std::string& comma
     std::cout << stability_table(results, work.pairs, engines, tests);
   std::cout.flush();
   if (options.out.empty()) return;
-  ResultSet file;
-  file.provenance = collect_provenance(command_line, measure_counter_ghz());
+  finish_provenance(file.provenance);
   std::vector<H5Table> tables = stability_tables(results, options.quick);
   tables.front().attributes.insert(tables.front().attributes.end(),
                                    {{"shard", shard.text()},

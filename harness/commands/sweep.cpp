@@ -209,6 +209,7 @@ Sweep run_sweep(const SweepOptions& options, const std::string& command_line) {
     }
   }
   if (isatty(STDERR_FILENO) == 1) std::fputs("\r\x1b[K", stderr);
+  finish_provenance(sweep.results.provenance);
   place_on_fronts(sweep);
   compare_with_defaults(sweep);
   return sweep;

@@ -87,6 +87,10 @@ struct Provenance {
   std::string command_line;
   std::string counter_kind = "tsc-reference-cycles";
   double tsc_ghz = 0;              // measured reference-cycle rate
+  // The cross-core round trip (measure/core_latency.h) as the measurement began and as it ended,
+  // ns; 0 when not measured (one hardware thread, or a file written before it was recorded).
+  double core_round_trip_ns_start = 0;
+  double core_round_trip_ns_end = 0;
 
   friend bool operator==(const Provenance&, const Provenance&) = default;
 };

@@ -45,6 +45,25 @@ auto vs_default_column(Figure figure) {
   };
 }
 
+// Whether a point runs its engine on more than one thread: a knob named for a thread count (Fx2D's
+// workers, Chipmunk2D's threads) above 1.
+bool runs_threads(const Sweep& sweep) {
+  for (const PointResult& point : sweep.points)
+    for (const auto& [key, value] : point.grid.knobs)
+      if ((key == "workers" || key == "threads") && value > 1) return true;
+  return false;
+}
+
+// The machine's cross-core round trip as the sweep began and as it ended, which timings of threads
+// that hand work to each other move with; "" when it was not measured.
+std::string machine_text(const Provenance& provenance) {
+  if (provenance.core_round_trip_ns_start <= 0 || provenance.core_round_trip_ns_end <= 0) return "";
+  return "the machine: a cache line went from one core to another and back in " +
+         formatted("%.0f", provenance.core_round_trip_ns_start) + " ns as the sweep began, " +
+         formatted("%.0f", provenance.core_round_trip_ns_end) +
+         " ns as it ended; timings of threads move with it (harness/README.md, sweep)\n";
+}
+
 }  // namespace
 
 std::string sweep_table(const Sweep& sweep) {
@@ -80,6 +99,7 @@ std::string sweep_table(const Sweep& sweep) {
       text += formatted("on its front, #%.0f from the fastest\n", sweep.marks.front_rank[i] + 1);
     }
   }
+  if (runs_threads(sweep)) text += machine_text(sweep.results.provenance);
   return text;
 }
 
@@ -122,7 +142,10 @@ nlohmann::ordered_json sweep_json(const Sweep& sweep) {
     const PointResult& first = sweep.points[front.front()];
     fronts.push_back({{"scene", first.scene}, {"engine", first.engine}, {"points", front}});
   }
-  return {{"schema", sweep_schema}, {"points", points}, {"fronts", fronts}};
+  const Provenance& provenance = sweep.results.provenance;
+  const nlohmann::ordered_json machine = {{"core_round_trip_ns_start", provenance.core_round_trip_ns_start},
+                                          {"core_round_trip_ns_end", provenance.core_round_trip_ns_end}};
+  return {{"schema", sweep_schema}, {"points", points}, {"fronts", fronts}, {"machine", machine}};
 }
 
 H5Table sweep_table_h5(const Sweep& sweep, std::span<const KnobAxis> axes, int repeats) {

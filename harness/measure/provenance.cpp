@@ -11,6 +11,7 @@
 #include "fx2d/Version.h"
 #include "fx2d_bench_git_revision.h"  // generated in the build tree (harness/git_revision.cmake)
 #include "measure/clocks.h"
+#include "measure/core_latency.h"
 
 #ifndef FX2D_BENCH_BUILD_TYPE
 #error "harness/CMakeLists.txt defines the FX2D_BENCH_* build facts"
@@ -58,7 +59,12 @@ Provenance collect_provenance(const std::string& command_line, double counter_gh
   provenance.command_line = command_line;
   provenance.counter_kind = counter_kind();
   provenance.tsc_ghz = counter_ghz;
+  provenance.core_round_trip_ns_start = measure_core_round_trip_ns();
   return provenance;
+}
+
+void finish_provenance(Provenance& provenance) {
+  provenance.core_round_trip_ns_end = measure_core_round_trip_ns();
 }
 
 std::string build_description() {

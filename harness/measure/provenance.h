@@ -13,6 +13,9 @@ namespace fxbench {
 // rate of the step counter (clocks.h).
 Provenance collect_provenance(const std::string& command_line, double counter_ghz);
 
+// Records what the machine was like as the measurement ended: the cross-core round trip.
+void finish_provenance(Provenance& provenance);
+
 // One line naming the build: Fx2D's version, git revision, build type and compiler.
 std::string build_description();
 

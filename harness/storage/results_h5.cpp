@@ -59,6 +59,10 @@ class ResultsReader {
     for (const auto& member : provenance_numbers) {
       results.provenance.*member.field = number_attribute<double>(file.get(), "/", member.name);
     }
+    for (const auto& member : optional_provenance_numbers) {
+      if (H5Aexists(file.get(), member.name) > 0)
+        results.provenance.*member.field = number_attribute<double>(file.get(), "/", member.name);
+    }
     results.partial = H5Aexists(file.get(), partial_attribute) > 0 &&
                       number_attribute<std::uint8_t>(file.get(), "/", partial_attribute) != 0;
     for_each_numbered_group(file.get(), "scenes", [&](hid_t group, const std::string& where) {

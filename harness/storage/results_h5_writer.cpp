@@ -118,6 +118,8 @@ class ResultsWriter {
       string_attribute(root, "/", member.name, provenance.*member.field);
     for (const auto& member : provenance_numbers)
       number_attribute(root, "/", member.name, provenance.*member.field);
+    for (const auto& member : optional_provenance_numbers)
+      number_attribute(root, "/", member.name, provenance.*member.field);
   }
 
   void write_scenes(hid_t root, const std::vector<SceneRecord>& scenes) const {

@@ -38,6 +38,11 @@ inline constexpr Member<Provenance, std::string> provenance_strings[] = {
     {"counter_kind", &Provenance::counter_kind},
 };
 inline constexpr Member<Provenance, double> provenance_numbers[] = {{"tsc_ghz", &Provenance::tsc_ghz}};
+// Written always; read as 0 when absent, so that files written before them still read.
+inline constexpr Member<Provenance, double> optional_provenance_numbers[] = {
+    {"core_round_trip_ns_start", &Provenance::core_round_trip_ns_start},
+    {"core_round_trip_ns_end", &Provenance::core_round_trip_ns_end},
+};
 inline constexpr const char* partial_attribute = "partial";
 
 inline constexpr Member<SceneRecord, std::string> scene_strings[] = {

@@ -22,6 +22,7 @@
 #include <regex>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "storage/file_integrity.h"
@@ -441,6 +442,15 @@ TEST_F(ReportOfWorkerSweep, DrawsSpeedupAgainstWorkersFromPairedRounds) {
                                                      rounds};
   }
   ASSERT_EQ(by_workers.size(), 3u);
+  // Beside the speedups, how fast the cores handed a cache line over as the sweep began and ended.
+  const nlohmann::json machine = nlohmann::json::parse(swept.out).at("machine");
+  if (std::thread::hardware_concurrency() >= 2) {
+    char round_trips[128];
+    std::snprintf(round_trips, sizeof round_trips, "back in %.0f ns as the sweep began, %.0f ns as it ended",
+                  machine.at("core_round_trip_ns_start").get<double>(),
+                  machine.at("core_round_trip_ns_end").get<double>());
+    EXPECT_NE(html.find(round_trips), std::string::npos) << round_trips;
+  }
   EXPECT_NE(html.find("\">pile · 36 bodies · substeps 2, velocity_passes 1</td>"), std::string::npos)
       << "one series: the swept setting (the default point, alone at its workers, is none)";
   const std::vector<double>& one_worker = by_workers.at(1).second;

@@ -4,7 +4,7 @@
 // figures, primary error and default flag, whether a point has a cost ratio to its default, and
 // which fronts there are. Masked: what a clock decides, the timings and that ratio and, because a
 // point's cost is its timing, whether it is on its front, what dominates it and the order of each
-// front's points.
+// front's points; the machine's figures.
 //
 // Regenerate (never by hand), after a deliberate change to an engine's physics or to the output:
 //   FX2D_UPDATE_GOLDENS=1 <build>/harness/tests/sweep_golden_test
@@ -31,6 +31,7 @@ void mask_timings(nlohmann::ordered_json& sweep) {
     if (!point["cost_vs_default"].is_null()) point["cost_vs_default"] = "<timing>";
   }
   for (auto& front : sweep["fronts"]) front["points"] = "<timing>";
+  for (auto& figure : sweep["machine"]) figure = "<timing>";
 }
 
 TEST(SweepGolden, TinyGridOnEveryEngineMatchesGoldenApartFromTimings) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace fxbench {
@@ -203,6 +204,12 @@ TEST(SweepCommand, NamingOneKnobOfAnEngineHoldsItsOthersAtTheScenesValues) {
   EXPECT_EQ(fx2d_settings[0], (nlohmann::json{{"workers", 1}}));
   EXPECT_EQ(fx2d_settings[1], (nlohmann::json{{"workers", 2}}));
   EXPECT_EQ(box2d_points, 18);
+  // Timings of threads move with how fast the cores hand a cache line over: the sweep records it,
+  // where there are two cores to hand it between.
+  const auto machine = nlohmann::json::parse(outcome.out)["machine"];
+  const bool two_cores = std::thread::hardware_concurrency() >= 2;
+  EXPECT_EQ(machine["core_round_trip_ns_start"].get<double>() > 0.0, two_cores) << machine;
+  EXPECT_EQ(machine["core_round_trip_ns_end"].get<double>() > 0.0, two_cores) << machine;
 
   // A short form names its knob as --axis does: the passes alone, at the scene's 8 substeps.
   const Outcome passes =
@@ -223,6 +230,20 @@ TEST(SweepCommand, RefusesAnExistingOutWithoutForce) {
   EXPECT_EQ(outcome.exit_code, 2);
   EXPECT_EQ(fs::file_size(out), 0u);
   fs::remove(out);
+}
+
+TEST(SweepCommand, AThreadSweepSaysHowFastTheCoresHandedALineOverAndNoOtherDoes) {
+  if (std::thread::hardware_concurrency() < 2) GTEST_SKIP() << "one hardware thread: nothing to hand over";
+  const std::string scene = std::string(FX2D_SOURCE_DIR) + "/scenes/tests/single_box_on_ground.json";
+  const std::string line = "the machine: a cache line went from one core to another and back in ";
+  const Outcome threads =
+      run_bench("sweep " + scene + " --engine fx2d --axis fx2d.workers=1,2 --steps 20 --repeats 1");
+  ASSERT_EQ(threads.exit_code, 0) << threads.out;
+  EXPECT_NE(threads.out.find(line), std::string::npos) << threads.out;
+  const Outcome substeps =
+      run_bench("sweep " + scene + " --engine fx2d --axis fx2d.substeps=4,8 --steps 20 --repeats 1");
+  ASSERT_EQ(substeps.exit_code, 0) << substeps.out;
+  EXPECT_EQ(substeps.out.find(line), std::string::npos) << substeps.out;
 }
 
 }  // namespace

@@ -72,6 +72,8 @@ ResultSet sample_results() {
   provenance.date_utc = "2024-05-01T12:00:00Z";
   provenance.command_line = "fx2d-bench run --scene pile --set '/name=\"Größe µ\"' -o out.h5";
   provenance.tsc_ghz = 2.2000000000000002;
+  provenance.core_round_trip_ns_start = 152.25;
+  provenance.core_round_trip_ns_end = 410.0000000000001;
 
   results.scenes.push_back({"pile", "0123456789abcdef",
                             "{\n  \"name\": \"pile\",\n  \"note\": \"Größe µ\"\n}\n", "scenes/pile.json",
@@ -331,6 +333,21 @@ TEST_F(ResultsFile, UnknownSchemaIsRefused) {
   H5Fclose(file);
   seal_h5_file(path_);  // as if written so: the check after the seal is the one under test
   expect_one_line_naming(read_error(path_), path_, "schema 'fx2d-bench.results/2' is not supported");
+}
+
+TEST_F(ResultsFile, AFileWrittenBeforeTheCoreRoundTripWasRecordedReadsItAsNotMeasured) {
+  ResultSet written = sample_results();
+  write_results_h5(written, path_, false);
+  const hid_t file = H5Fopen(path_.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(H5Adelete(file, "core_round_trip_ns_start"), 0);
+  ASSERT_GE(H5Adelete(file, "core_round_trip_ns_end"), 0);
+  H5Fclose(file);
+  seal_h5_file(path_);
+  const ResultSet read = read_results_h5(path_);
+  EXPECT_EQ(read.provenance.core_round_trip_ns_start, 0.0);
+  EXPECT_EQ(read.provenance.core_round_trip_ns_end, 0.0);
+  written.provenance.core_round_trip_ns_start = written.provenance.core_round_trip_ns_end = 0.0;
+  EXPECT_TRUE(read == written);
 }
 
 TEST_F(ResultsFile, MissingDatasetIsNamed) {
