@@ -6,7 +6,10 @@
 // no colour goes to the overflow group, solved serially. Colouring is greedy in the constraints'
 // order, which is the contact cache's slot order, so the same step always gets the same colours.
 // Within a colour (and the overflow), one-point contacts are listed before two-point ones, each in
-// constraint order: the batches' runs (contact_batch.h).
+// constraint order: the batches' runs (contact_batch.h). Those runs leave few lanes empty: over 200
+// steps, sleeping off, the constraints fill 0.92 of their batches' lanes on settling_boxes 200
+// (4 colours), 0.96 on 800, 0.95 on pile 300, 0.99 on pile 1200 and 0.78 on stacks 50 (50
+// constraints in 8 batches), so a colouring that packs them tighter has little to win.
 #pragma once
 
 #include <cstdint>
