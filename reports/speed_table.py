@@ -14,7 +14,8 @@ their ratio Fx2D / Box2D (with more than one run, the median of
 the runs' ratios and their range), Fx2D's primary error (the scene's own
 metric: displacement for stacks, penetration otherwise), and where the cell stands against the
 targets the project set for it (issue 19: a ratio at most that of the fastest single-threaded 2D
-engine measured, an error inside a ceiling). `--instructions` adds each engine's exact instructions
+engine measured, an error inside a ceiling), and the range of the machine's cross-core round trip
+over the cell's runs (as each began and ended; `-` where not measured). `--instructions` adds each engine's exact instructions
 per step and their ratio, counted under callgrind in the first run of each cell (`run --counter
 instructions`). The count is the same on any machine of one ISA, busy or idle; the time ratio, which
 the targets judge, is not: on a shared 2-core virtual machine the same build's stacks 50 (sleeping
@@ -62,7 +63,10 @@ def measure(args, scene, bodies, sleeping, count_instructions=False):
     done = subprocess.run(command, capture_output=True, text=True, check=False)
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(command)}: exit {done.returncode}: {done.stderr.strip()}")
-    return {run["engine"]: run for run in json.loads(done.stdout)["runs"]}
+    summary = json.loads(done.stdout)
+    runs = {run["engine"]: run for run in summary["runs"]}
+    runs["machine"] = summary["machine"]
+    return runs
 
 
 def primary_error(run):
@@ -90,6 +94,11 @@ def row(args, scene, bodies, sleeping):
     if ceiling is not None and error > ceiling:
         missed.append(f"error {error / ceiling:.2f}x its ceiling")
     verdict = "no target" if ratio_target is None else ("; ".join(missed) if missed else "meets")
+    # How long a cache line took between two cores and back as each run began and ended: a busy
+    # neighbour that slows it slows the two engines unequally (harness/README.md, sweep).
+    round_trips = [runs["machine"][key] for runs in samples
+                   for key in ("core_round_trip_ns_start", "core_round_trip_ns_end")]
+    machine = f"{min(round_trips):.0f}-{max(round_trips):.0f}" if min(round_trips) > 0 else "-"
     counted = ""
     if args.instructions:
         fx2d_count, box2d_count = (samples[0][engine]["instructions_per_step"] for engine in ("fx2d", "box2d"))
@@ -97,7 +106,7 @@ def row(args, scene, bodies, sleeping):
     text = (f"| {scene} | {bodies} | {'on' if sleeping else 'off'} | {fx2d:.4f} | {box2d:.4f} | {ratio:.3f}{spread} | "
             f"{counted}"
             f"{'' if ratio_target is None else f'<= {ratio_target:.2f}'} | {samples[0]['fx2d']['primary_metric']} "
-            f"{error * 1e3:.2f} mm | {'' if ceiling is None else f'<= {ceiling * 1e3:.0f} mm'} | {verdict} |")
+            f"{error * 1e3:.2f} mm | {'' if ceiling is None else f'<= {ceiling * 1e3:.0f} mm'} | {verdict} | {machine} |")
     return text, bool(missed)
 
 
@@ -126,8 +135,8 @@ def main():
         modes = [sleeping_mode(text) for text in args.sleeping.split(",")]
         counted = " Fx2D instr/step | Box2D instr/step | instr ratio |" if args.instructions else ""
         print(f"| scene | bodies | sleeping | Fx2D ms/step | Box2D ms/step | ratio |{counted} target | Fx2D error "
-              "| ceiling | verdict |")
-        print("|---" * (10 + (3 if args.instructions else 0)) + "|")
+              "| ceiling | verdict | core round trip ns |")
+        print("|---" * (11 + (3 if args.instructions else 0)) + "|")
         any_missed = False
         for scene, bodies in cells:
             for sleeping in modes:

@@ -94,10 +94,15 @@ nlohmann::ordered_json accuracy_json(const AccuracySample& worst) {
           {"nan", worst.nan}};
 }
 
+nlohmann::ordered_json machine_json(const Provenance& provenance) {
+  return {{"core_round_trip_ns_start", provenance.core_round_trip_ns_start},
+          {"core_round_trip_ns_end", provenance.core_round_trip_ns_end}};
+}
+
 nlohmann::ordered_json summary_json(const ResultSet& results) {
   nlohmann::ordered_json runs = nlohmann::ordered_json::array();
   for (const RunRecord& run : results.runs) runs.push_back(counted_run_json(run, primary_metric_of(results, run)));
-  return {{"schema", summary_schema}, {"runs", runs}};
+  return {{"schema", summary_schema}, {"runs", runs}, {"machine", machine_json(results.provenance)}};
 }
 
 std::string summary_table(const ResultSet& results) {

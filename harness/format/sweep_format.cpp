@@ -142,10 +142,10 @@ nlohmann::ordered_json sweep_json(const Sweep& sweep) {
     const PointResult& first = sweep.points[front.front()];
     fronts.push_back({{"scene", first.scene}, {"engine", first.engine}, {"points", front}});
   }
-  const Provenance& provenance = sweep.results.provenance;
-  const nlohmann::ordered_json machine = {{"core_round_trip_ns_start", provenance.core_round_trip_ns_start},
-                                          {"core_round_trip_ns_end", provenance.core_round_trip_ns_end}};
-  return {{"schema", sweep_schema}, {"points", points}, {"fronts", fronts}, {"machine", machine}};
+  return {{"schema", sweep_schema},
+          {"points", points},
+          {"fronts", fronts},
+          {"machine", machine_json(sweep.results.provenance)}};
 }
 
 H5Table sweep_table_h5(const Sweep& sweep, std::span<const KnobAxis> axes, int repeats) {

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "analysis/summary.h"
@@ -246,6 +247,7 @@ void mask_timings(nlohmann::ordered_json& summary) {
   for (auto& run : summary["runs"])
     for (const char* key : {"ms_per_step", "cpu_ms_per_step", "cycles_per_step", "phases_ms"})
       for (auto& [name, value] : run[key].items()) value = "<timing>";
+  for (auto& figure : summary["machine"]) figure = "<timing>";
 }
 
 TEST(SummaryJson, SmallRunMatchesGoldenApartFromTimings) {
@@ -392,10 +394,17 @@ TEST_F(BinaryTest, OutFileReadsBackWithEveryRunAndSample) {
     EXPECT_EQ(run.warmup_steps, 0);
     EXPECT_TRUE(run.deterministic) << run.engine;
   }
-  // The same run printed as JSON names the same final states as the file holds.
+  // The same run printed as JSON names the same final states as the file holds, and the same
+  // machine: how long a cache line took between two cores and back, where there are two.
   const Json summary = Json::parse(outcome.out);
   for (std::size_t i = 0; i < results.runs.size(); ++i)
     EXPECT_EQ(summary["runs"][i]["state_hash"], results.runs[i].final_state_hash);
+  EXPECT_EQ(summary["machine"]["core_round_trip_ns_start"].get<double>(),
+            results.provenance.core_round_trip_ns_start);
+  EXPECT_EQ(summary["machine"]["core_round_trip_ns_end"].get<double>(),
+            results.provenance.core_round_trip_ns_end);
+  EXPECT_EQ(results.provenance.core_round_trip_ns_start > 0.0, std::thread::hardware_concurrency() >= 2);
+  EXPECT_EQ(results.provenance.core_round_trip_ns_end > 0.0, std::thread::hardware_concurrency() >= 2);
 }
 
 TEST_F(BinaryTest, EnginesListsEveryEngineOnePerLine) {
