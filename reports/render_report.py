@@ -185,8 +185,9 @@ def default_standing(sweep, rows):
 
 
 def scaling_section(files, out_dir):
-    series = [s for f in files if f.sweep is not None and len(f.sweep)
-              for s in report_data.worker_scaling(f.sweep, f.sweep_runs)]
+    scaled = [(f, report_data.worker_scaling(f.sweep, f.sweep_runs)) for f in files
+              if f.sweep is not None and len(f.sweep)]
+    series = [s for _, file_series in scaled for s in file_series]
     if not series:
         return note("No sweep over an engine's thread count among the inputs: <code>fx2d-bench sweep SCENE "
                     "--engine fx2d --axis fx2d.workers=1,2,3,4 --out sweep.h5</code> makes one.")
@@ -196,8 +197,8 @@ def scaling_section(files, out_dir):
                     "against workers, per engine, scene, size and setting of the other knobs; the dashed line is the "
                     "ideal, speedup = workers.")]
     # Threads that hand work to each other pay a cache line's trip between cores at each hand-over.
-    for f in files:
-        if f.sweep is not None and f.core_round_trip_ns and report_data.worker_scaling(f.sweep, f.sweep_runs):
+    for f, file_series in scaled:
+        if file_series and f.core_round_trip_ns:
             start, end = f.core_round_trip_ns
             parts.append(note(f"{esc(f.label)}: a cache line went from one core to another and back in "
                               f"{start:.0f} ns as the sweep began, {end:.0f} ns as it ended; the speedups "

@@ -64,9 +64,7 @@ def measure(args, scene, bodies, sleeping, count_instructions=False):
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(command)}: exit {done.returncode}: {done.stderr.strip()}")
     summary = json.loads(done.stdout)
-    runs = {run["engine"]: run for run in summary["runs"]}
-    runs["machine"] = summary["machine"]
-    return runs
+    return {run["engine"]: run for run in summary["runs"]}, summary["machine"]
 
 
 def primary_error(run):
@@ -77,7 +75,8 @@ def primary_error(run):
 
 
 def row(args, scene, bodies, sleeping):
-    samples = [measure(args, scene, bodies, sleeping, args.instructions and run == 0) for run in range(args.runs)]
+    measured = [measure(args, scene, bodies, sleeping, args.instructions and run == 0) for run in range(args.runs)]
+    samples = [runs for runs, _ in measured]
     errors = {primary_error(runs["fx2d"]) for runs in samples}
     if len(errors) != 1:
         raise RuntimeError(f"{scene} {bodies}: Fx2D's error differs between runs ({sorted(errors)}): not deterministic")
@@ -96,7 +95,7 @@ def row(args, scene, bodies, sleeping):
     verdict = "no target" if ratio_target is None else ("; ".join(missed) if missed else "meets")
     # How long a cache line took between two cores and back as each run began and ended: a busy
     # neighbour that slows it slows the two engines unequally (harness/README.md, sweep).
-    round_trips = [runs["machine"][key] for runs in samples
+    round_trips = [machine[key] for _, machine in measured
                    for key in ("core_round_trip_ns_start", "core_round_trip_ns_end")]
     machine = f"{min(round_trips):.0f}-{max(round_trips):.0f}" if min(round_trips) > 0 else "-"
     counted = ""

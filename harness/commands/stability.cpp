@@ -171,8 +171,8 @@ void stability_command(const StabilityOptions& options, const std::string& comma
   for (const StabilityTest* test : tests)
     start_scenes.push_back(load_test_scene(*test, options.suite_dir, user_sets(options.sets), test->search.start));
   const WorkList work = work_list_of(options, engines, tests, start_scenes);
-  ResultSet file;
-  file.provenance = collect_provenance(command_line, measure_counter_ghz());
+  ResultSet file;  // what --out is given, its provenance taken before the searches
+  if (!options.out.empty()) file.provenance = collect_provenance(command_line, measure_counter_ghz());
   std::vector<TestResult> results;
   for (const ItemPiece& piece : pieces_of(shard, work.costs, work.spreadable))
     results.push_back(search_test(options, *work.pairs[piece.item].first, *work.pairs[piece.item].second, piece));
